@@ -1,5 +1,6 @@
 //! Compiling a shim into a self-contained shared object.
 
+use std::hash::{Hash, Hasher};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -75,20 +76,24 @@ impl SharedObject {
         self
     }
 
-    /// Compiles and links; returns the absolute path of the shared object.
+    /// Compiles and links (or reuses a cached build); returns the absolute path of the shared
+    /// object.
     ///
-    /// Also emits `cargo:rustc-env=<env_var>=<path>` so the crate can `env!` the location at
-    /// compile time, plus the `rerun-if-changed` lines for sources and headers.
+    /// The shim does not depend on cargo's profile (it is always `-O2`), so the result is cached
+    /// under `<target>/kinscene-shims/lib<name>-<hash>.so`, keyed by a hash of the compiler, every
+    /// argument and the contents of the sources and registered headers. Debug, release, bench
+    /// and clippy builds therefore compile each shim once; editing a source or flag makes a new
+    /// entry. Deleting `target/kinscene-shims` forces a rebuild.
+    ///
+    /// Emits `cargo:rustc-env=<env_var>=<path>` so the crate can `env!` the location, plus the
+    /// `rerun-if-changed` lines for sources and headers.
     pub fn build(&self, env_var: &str) -> PathBuf {
         let out_dir = PathBuf::from(std::env::var_os("OUT_DIR").expect("OUT_DIR is set by cargo"));
-        let output = out_dir.join(format!("lib{}.so", self.name));
-        for f in self.sources.iter().chain(&self.headers) {
+        let common_header = crate::common_include_dir().join("ks_common.h");
+        let inputs: Vec<&PathBuf> = self.sources.iter().chain(&self.headers).collect();
+        for f in inputs.iter().copied().chain([&common_header]) {
             println!("cargo:rerun-if-changed={}", f.display());
         }
-        println!(
-            "cargo:rerun-if-changed={}",
-            crate::common_include_dir().join("ks_common.h").display()
-        );
 
         let tool = cc::Build::new()
             .cpp(true)
@@ -98,47 +103,104 @@ impl SharedObject {
             .debug(false)
             .pic(true)
             .get_compiler();
-        let mut cmd = Command::new(tool.path());
-        // cc's defaults for this target (pic, target flags), minus any -O/-g it chose.
-        for arg in tool.args() {
-            let a = arg.to_string_lossy();
-            if !(a.starts_with("-O") || a.starts_with("-g")) {
-                cmd.arg(arg);
+        let args = self.arguments(&tool);
+
+        let mut hasher = std::collections::hash_map::DefaultHasher::new();
+        tool.path().hash(&mut hasher);
+        args.hash(&mut hasher);
+        for f in inputs.iter().copied().chain([&common_header]) {
+            std::fs::read(f)
+                .unwrap_or_else(|e| panic!("kinscene: cannot read {}: {e}", f.display()))
+                .hash(&mut hasher);
+        }
+        let cache = cache_dir(&out_dir);
+        std::fs::create_dir_all(&cache)
+            .unwrap_or_else(|e| panic!("kinscene: cannot create {}: {e}", cache.display()));
+        let output = cache.join(format!("lib{}-{:016x}.so", self.name, hasher.finish()));
+
+        if !output.is_file() {
+            // Build under a temporary name and rename, so concurrent builds never see a
+            // half-written object.
+            let partial = output.with_extension(format!("so.{}.partial", std::process::id()));
+            let mut cmd = Command::new(tool.path());
+            cmd.args(&args).arg("-o").arg(&partial);
+            let status = cmd.status().unwrap_or_else(|e| {
+                panic!(
+                    "kinscene: cannot run the C++ compiler {:?}: {e}",
+                    tool.path()
+                )
+            });
+            if !status.success() {
+                eprintln!(
+                    "kinscene: compiling the {} shim failed; command: {cmd:?}",
+                    self.name
+                );
+                std::process::exit(1);
             }
-        }
-        cmd.args(["-shared", "-fPIC", "-O2", "-DNDEBUG", "-fvisibility=hidden"]);
-        cmd.args(["-fvisibility-inlines-hidden", "-Wall", "-Wno-unused-parameter"]);
-        cmd.args(&self.flags);
-        for d in &self.defines {
-            cmd.arg(format!("-D{d}"));
-        }
-        for i in &self.include_dirs {
-            cmd.arg("-I").arg(i);
-        }
-        cmd.args(&self.sources);
-        cmd.arg("-o").arg(&output);
-        cmd.args([
-            "-Wl,-z,defs",
-            "-Wl,-Bsymbolic",
-            "-Wl,--exclude-libs,ALL",
-            "-Wl,--disable-new-dtags",
-        ]);
-        cmd.arg(format!("-Wl,-soname,lib{}.so", self.name));
-        for d in &self.lib_dirs {
-            cmd.arg(format!("-L{}", d.display()));
-            cmd.arg(format!("-Wl,-rpath,{}", d.display()));
-        }
-        for l in &self.libs {
-            cmd.arg(format!("-l{l}"));
-        }
-        let status = cmd
-            .status()
-            .unwrap_or_else(|e| panic!("kinscene: cannot run the C++ compiler {:?}: {e}", tool.path()));
-        if !status.success() {
-            eprintln!("kinscene: compiling the {} shim failed; command: {cmd:?}", self.name);
-            std::process::exit(1);
+            std::fs::rename(&partial, &output)
+                .unwrap_or_else(|e| panic!("kinscene: cannot move {}: {e}", partial.display()));
         }
         println!("cargo:rustc-env={env_var}={}", output.display());
         output
+    }
+
+    /// The compiler arguments, without the output file.
+    fn arguments(&self, tool: &cc::Tool) -> Vec<String> {
+        // cc's defaults for this target (pic, target flags), minus any -O/-g it chose.
+        let mut args: Vec<String> = tool
+            .args()
+            .iter()
+            .map(|a| a.to_string_lossy().into_owned())
+            .filter(|a| !(a.starts_with("-O") || a.starts_with("-g")))
+            .collect();
+        args.extend(
+            [
+                "-shared",
+                "-fPIC",
+                "-O2",
+                "-DNDEBUG",
+                "-fvisibility=hidden",
+                "-fvisibility-inlines-hidden",
+                "-Wall",
+                "-Wno-unused-parameter",
+            ]
+            .map(String::from),
+        );
+        args.extend(self.flags.iter().cloned());
+        args.extend(self.defines.iter().map(|d| format!("-D{d}")));
+        args.extend(
+            self.include_dirs
+                .iter()
+                .map(|i| format!("-I{}", i.display())),
+        );
+        args.extend(self.sources.iter().map(|s| s.display().to_string()));
+        args.extend(
+            [
+                "-Wl,-z,defs",
+                "-Wl,-Bsymbolic",
+                "-Wl,--exclude-libs,ALL",
+                "-Wl,--disable-new-dtags",
+            ]
+            .map(String::from),
+        );
+        args.push(format!("-Wl,-soname,lib{}.so", self.name));
+        for d in &self.lib_dirs {
+            args.push(format!("-L{}", d.display()));
+            args.push(format!("-Wl,-rpath,{}", d.display()));
+        }
+        args.extend(self.libs.iter().map(|l| format!("-l{l}")));
+        args
+    }
+}
+
+/// `<target>/kinscene-shims` for `OUT_DIR = <target>/<profile>/build/<pkg>-<hash>/out` (also
+/// with a `<triple>/` level); `OUT_DIR` itself for any other layout.
+fn cache_dir(out_dir: &Path) -> PathBuf {
+    let mut up = out_dir.ancestors();
+    match (up.nth(2), up.nth(1)) {
+        (Some(build), Some(target)) if build.file_name() == Some("build".as_ref()) => {
+            target.join("kinscene-shims")
+        }
+        _ => out_dir.to_owned(),
     }
 }

@@ -8,6 +8,7 @@
 //! typed Rust errors.
 
 use std::ffi::{CStr, c_char, c_int};
+use std::mem::MaybeUninit;
 use std::path::{Path, PathBuf};
 
 /// Size of the error-message buffer handed to every fallible shim call.
@@ -97,13 +98,14 @@ impl Shim {
         let flags = libc::RTLD_NOW | libc::RTLD_LOCAL | libc::RTLD_DEEPBIND;
         // SAFETY: loading runs the shim's static initialisers; the shims are our own C++ code and
         // the libraries they link, which have no unsound initialisers.
-        let lib = unsafe { libloading::os::unix::Library::open(Some(&path), flags) }.map_err(
-            |e| LoadError {
-                backend,
-                path: path.clone(),
-                reason: e.to_string(),
-            },
-        )?;
+        let lib =
+            unsafe { libloading::os::unix::Library::open(Some(&path), flags) }.map_err(|e| {
+                LoadError {
+                    backend,
+                    path: path.clone(),
+                    reason: e.to_string(),
+                }
+            })?;
         Ok(Shim { lib, backend, path })
     }
 
@@ -144,14 +146,19 @@ pub fn call(
     function: &'static str,
     f: impl FnOnce(*mut c_char, usize) -> c_int,
 ) -> Result<(), CallError> {
-    let mut buf = [0 as c_char; ERR_LEN];
-    let status = f(buf.as_mut_ptr(), ERR_LEN);
+    // Only the first byte is initialised: the shim NUL-terminates whatever it writes
+    // (ks::set_error), so a reader never goes past written bytes. Zeroing 1 KiB per call cost
+    // ~30 ns, a noticeable share of a ~600 ns FK call.
+    let mut buf = [MaybeUninit::<c_char>::uninit(); ERR_LEN];
+    buf[0].write(0);
+    let ptr = buf.as_mut_ptr().cast::<c_char>();
+    let status = f(ptr, ERR_LEN);
     if status == 0 {
         return Ok(());
     }
-    // SAFETY: the shim always NUL-terminates within ERR_LEN (ks::set_error); the buffer was
-    // zeroed, so even a shim that wrote nothing leaves a valid empty C string.
-    let message = unsafe { CStr::from_ptr(buf.as_ptr()) }
+    // SAFETY: buf[0] was initialised to NUL and the shim writes a NUL-terminated message within
+    // ERR_LEN, so the scan stops inside initialised bytes.
+    let message = unsafe { CStr::from_ptr(ptr) }
         .to_string_lossy()
         .into_owned();
     Err(if status == KS_INVALID_ARGUMENT {
