@@ -1,0 +1,172 @@
+//! Effects of the settings: range, interpolation, cost threshold, simplification, seeding.
+
+use std::f64::consts::PI;
+use std::time::Duration;
+
+use kinscene_ompl::{
+    LogLevel, PlanSettings, PlanStatus, Planner, Problem, StateSpace, Termination, plan,
+    set_log_level, set_seed,
+};
+
+use crate::common::{assert_path_valid, distance, length, serial};
+
+fn outside_disc(q: &[f64]) -> bool {
+    (q[0] - 0.5).hypot(q[1] - 0.5) >= 0.15
+}
+
+fn problem() -> Problem {
+    Problem::new(
+        StateSpace::RealVector {
+            lower: vec![0.0; 2],
+            upper: vec![1.0; 2],
+        },
+        vec![0.1, 0.1],
+        vec![0.9, 0.9],
+    )
+}
+
+fn run(settings: &PlanSettings, budget: Duration) -> kinscene_ompl::PlanOutcome {
+    plan(
+        &problem(),
+        &outside_disc,
+        settings,
+        Termination::after(budget),
+    )
+    .unwrap()
+}
+
+#[test]
+fn range_bounds_each_step_of_an_unsimplified_path() {
+    let _serial = serial();
+    for planner in [Planner::RrtConnect, Planner::Rrt] {
+        let settings = PlanSettings {
+            range: Some(0.05),
+            simplify: false,
+            ..PlanSettings::with_planner(planner)
+        };
+        let outcome = run(&settings, Duration::from_secs(5));
+        assert_eq!(outcome.status, PlanStatus::ExactSolution);
+        // The start-goal distance is 1.13, so at least ⌈1.13 / 0.05⌉ = 23 steps.
+        assert!(
+            outcome.path.len() >= 24,
+            "{planner:?}: {} states",
+            outcome.path.len()
+        );
+        for w in outcome.path.windows(2) {
+            let step = distance(&problem().space, &w[0], &w[1]);
+            assert!(step <= 0.05 + 1e-12, "{planner:?}: step {step} > range");
+        }
+    }
+}
+
+#[test]
+fn interpolation_gives_the_requested_state_count() {
+    let _serial = serial();
+    let settings = PlanSettings {
+        interpolate_to: Some(57),
+        ..PlanSettings::default()
+    };
+    let outcome = run(&settings, Duration::from_secs(5));
+    assert_eq!(outcome.status, PlanStatus::ExactSolution);
+    assert_eq!(outcome.path.len(), 57);
+    assert_eq!(outcome.path[0], problem().start);
+    assert!(
+        distance(
+            &problem().space,
+            outcome.path.last().unwrap(),
+            &problem().goal
+        ) <= 1e-6
+    );
+}
+
+#[test]
+fn optimising_planner_uses_the_budget_unless_a_threshold_is_met() {
+    let _serial = serial();
+    let budget = Duration::from_millis(300);
+    let settings = PlanSettings::with_planner(Planner::RrtStar);
+    let outcome = run(&settings, budget);
+    assert_eq!(outcome.status, PlanStatus::ExactSolution);
+    assert!(
+        outcome.planning_time >= budget,
+        "{:?}",
+        outcome.planning_time
+    );
+
+    // Any solution meets an infinite threshold: RRT* stops at its first one.
+    let settings = PlanSettings {
+        cost_threshold: Some(f64::INFINITY),
+        ..settings
+    };
+    let outcome = run(&settings, Duration::from_secs(10));
+    assert_eq!(outcome.status, PlanStatus::ExactSolution);
+    assert!(
+        outcome.planning_time < Duration::from_secs(2),
+        "{:?}",
+        outcome.planning_time
+    );
+}
+
+#[test]
+fn same_seed_gives_the_same_path_and_simplification_shortens_it() {
+    let _serial = serial();
+    let raw = PlanSettings {
+        simplify: false,
+        ..PlanSettings::default()
+    };
+    let budget = Duration::from_secs(5);
+    set_seed(42).unwrap();
+    let first = run(&raw, budget);
+    set_seed(42).unwrap();
+    let second = run(&raw, budget);
+    assert_eq!(first.status, PlanStatus::ExactSolution);
+    assert_eq!(
+        first.path, second.path,
+        "same seed, same planner: identical path"
+    );
+
+    set_seed(42).unwrap();
+    let simplified = run(&PlanSettings::default(), budget);
+    assert_eq!(simplified.status, PlanStatus::ExactSolution);
+    assert_path_valid(&problem().space, &simplified.path, outside_disc);
+    // The simplifier started from the same raw path (same seed) and only shortens it.
+    let (l_raw, l_simple) = (
+        length(&problem().space, &first.path),
+        length(&problem().space, &simplified.path),
+    );
+    assert!(
+        l_simple <= l_raw + 1e-9,
+        "simplified {l_simple} > raw {l_raw}"
+    );
+    // The shortest way around the disc (two tangents plus an arc) is ≥ the straight 1.131.
+    assert!(l_simple >= 0.8 * 2f64.sqrt());
+}
+
+#[test]
+fn se2_start_yaw_is_normalised_into_minus_pi_pi() {
+    let _serial = serial();
+    let problem = Problem::new(
+        StateSpace::Se2 {
+            x: [0.0, 1.0],
+            y: [0.0, 1.0],
+        },
+        vec![0.1, 0.1, 4.0],
+        vec![0.9, 0.9, -7.0],
+    );
+    let outcome = plan(
+        &problem,
+        &outside_disc,
+        &PlanSettings::default(),
+        Termination::after(Duration::from_secs(5)),
+    )
+    .unwrap();
+    assert_eq!(outcome.status, PlanStatus::ExactSolution);
+    // 4 − 2π and −7 + 2π are the representatives in [−π, π].
+    assert!((outcome.path[0][2] - (4.0 - 2.0 * PI)).abs() <= 1e-12);
+    assert!((outcome.path.last().unwrap()[2] - (-7.0 + 2.0 * PI)).abs() <= 1e-6);
+}
+
+#[test]
+fn log_level_can_be_changed() {
+    set_log_level(LogLevel::Error).unwrap();
+    set_log_level(LogLevel::None).unwrap();
+}
