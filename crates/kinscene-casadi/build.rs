@@ -39,14 +39,10 @@ fn main() {
 
 fn find_prefix() -> PathBuf {
     let mut searched = Vec::new();
-    if let Some(p) = kinscene_build::env_path(OVERRIDE) {
-        if MUST_CONTAIN.iter().all(|f| p.join(f).exists()) {
-            return p;
-        }
-        searched.push(format!(
-            "{OVERRIDE}={} (lacks {MUST_CONTAIN:?})",
-            p.display()
-        ));
+    let has_all = |p: &Path| MUST_CONTAIN.iter().all(|f| p.join(f).exists());
+    let requirement = format!("holds {}", MUST_CONTAIN.join(" and "));
+    if let Some(p) = kinscene_build::env_override(OVERRIDE, "CasADi", &requirement, has_all) {
+        return p;
     }
     if let Some(p) = kinscene_build::find_in_site_packages("casadi", &MUST_CONTAIN) {
         return p;

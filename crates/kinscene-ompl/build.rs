@@ -49,17 +49,11 @@ fn main() {
         .include(&ompl)
         .include(&eigen)
         .flag("-std=c++17");
-    if let Some(lib_dir) = kinscene_build::env_path("OMPL_LIB_DIR") {
-        if !lib_dir.join("libompl.so").exists() {
-            kinscene_build::fail(
-                "OMPL",
-                &[format!(
-                    "OMPL_LIB_DIR={} (lacks libompl.so)",
-                    lib_dir.display()
-                )],
-                "OMPL_LIB_DIR to the directory holding libompl.so",
-            );
-        }
+    if let Some(lib_dir) =
+        kinscene_build::env_override("OMPL_LIB_DIR", "OMPL", "holds libompl.so", |d: &Path| {
+            d.join("libompl.so").exists()
+        })
+    {
         so = so.lib_dir(lib_dir);
     }
     so.lib("ompl").build("KINSCENE_OMPL_SHIM_BUILT");
@@ -75,11 +69,8 @@ fn find_dir(
     searched: &mut Vec<String>,
 ) -> Option<PathBuf> {
     let has = |d: &Path| d.join(header).exists();
-    if let Some(dir) = kinscene_build::env_path(var) {
-        if has(&dir) {
-            return Some(dir);
-        }
-        searched.push(format!("{var}={} (lacks {header})", dir.display()));
+    if let Some(dir) = kinscene_build::env_override(var, "OMPL", &format!("holds {header}"), has) {
+        return Some(dir);
     }
     let from_pkg_config = kinscene_build::pkg_config_include_dirs(package).unwrap_or_default();
     for dir in from_pkg_config.into_iter().chain([PathBuf::from(default)]) {

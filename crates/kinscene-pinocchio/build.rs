@@ -71,15 +71,14 @@ fn main() {
 fn find_prefix() -> PathBuf {
     let has_all = |d: &Path| MUST_CONTAIN.iter().all(|f| d.join(f).exists());
     let mut searched = Vec::new();
-    if let Some(dir) = kinscene_build::env_path("KINSCENE_PINOCCHIO_PREFIX") {
-        if has_all(&dir) {
-            return dir;
-        }
-        searched.push(format!(
-            "KINSCENE_PINOCCHIO_PREFIX={} (needs {})",
-            dir.display(),
-            MUST_CONTAIN.join(", ")
-        ));
+    let requirement = format!("holds {}", MUST_CONTAIN.join(" and "));
+    if let Some(dir) = kinscene_build::env_override(
+        "KINSCENE_PINOCCHIO_PREFIX",
+        "Pinocchio",
+        &requirement,
+        has_all,
+    ) {
+        return dir;
     }
     if let Some(dir) = kinscene_build::find_in_site_packages("cmeel.prefix", MUST_CONTAIN) {
         return dir;

@@ -36,6 +36,26 @@ pub fn env_path(name: &str) -> Option<PathBuf> {
         .map(PathBuf::from)
 }
 
+/// An explicit override: `None` when `name` is unset; the path when it is set and `is_valid`
+/// accepts it; otherwise the build stops (via [`fail`]) instead of silently falling back to
+/// another copy of the library, which would not be what the user asked for.
+pub fn env_override(
+    name: &str,
+    backend: &str,
+    requirement: &str,
+    is_valid: impl Fn(&Path) -> bool,
+) -> Option<PathBuf> {
+    let dir = env_path(name)?;
+    if is_valid(&dir) {
+        return Some(dir);
+    }
+    fail(
+        backend,
+        &[format!("{name}={}: expected a directory that {requirement}", dir.display())],
+        &format!("{name} to a directory that {requirement}, or unset it"),
+    )
+}
+
 /// `site-packages` directories that may hold the backend wheels, best first: the project-local
 /// venv (`<ancestor>/.deps/venv`, as written by `setup.sh`), then those of `python3` on `PATH`.
 pub fn site_packages_candidates() -> Vec<PathBuf> {
