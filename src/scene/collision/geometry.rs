@@ -1,0 +1,134 @@
+//! Collision geometry compiled once at build time into parry shapes.
+
+use std::fmt;
+use std::panic::{AssertUnwindSafe, catch_unwind};
+
+use nalgebra::{Isometry3, Point3, Vector3};
+use parry3d_f64::query;
+use parry3d_f64::shape::{Ball, Capsule, Cuboid, Cylinder, SharedShape};
+
+use super::convert;
+use crate::scene::Error;
+use crate::scene::shape::{BoundingSphere, Shape};
+
+/// A shape ready for parry queries, with its placement in its owner's frame (the part frame,
+/// or the world frame for base shapes).
+#[derive(Clone)]
+pub(crate) struct CompiledShape {
+    shape: SharedShape,
+    /// Owner frame from parry's shape frame (includes the cylinder's z-to-y alignment).
+    owner_from_parry: Isometry3<f64>,
+    /// Bounding sphere in the owner frame.
+    pub sphere: BoundingSphere,
+}
+
+impl fmt::Debug for CompiledShape {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("CompiledShape")
+            .field("shape_type", &self.shape.shape_type())
+            .field("owner_from_parry", &self.owner_from_parry)
+            .field("sphere", &self.sphere)
+            .finish()
+    }
+}
+
+impl CompiledShape {
+    /// Compiles a validated shape placed at `owner_from_shape`.
+    ///
+    /// # Errors
+    /// [`Error::DegenerateMesh`] if parry cannot build a convex hull.
+    pub(crate) fn new(
+        shape: &Shape,
+        owner_from_shape: &Isometry3<f64>,
+        what: &str,
+    ) -> Result<Self, Error> {
+        let mut shape_from_parry = Isometry3::identity();
+        let compiled = match shape {
+            Shape::Cuboid { half_extents } => {
+                SharedShape::new(Cuboid::new(convert::vector(half_extents)))
+            }
+            Shape::Sphere { radius } => SharedShape::new(Ball::new(*radius)),
+            Shape::Capsule { radius, length } => SharedShape::new(Capsule::new(
+                convert::vector(&Vector3::new(0.0, 0.0, -length / 2.0)),
+                convert::vector(&Vector3::new(0.0, 0.0, length / 2.0)),
+                *radius,
+            )),
+            Shape::Cylinder { radius, length } => {
+                // parry's cylinder runs along y; a +90° turn about x maps y onto z.
+                shape_from_parry = Isometry3::rotation(Vector3::x() * std::f64::consts::FRAC_PI_2);
+                SharedShape::new(Cylinder::new(length / 2.0, *radius))
+            }
+            Shape::ConvexMesh { vertices, .. } => {
+                let points: Vec<_> = vertices.iter().map(convert::point).collect();
+                // parry's hull code has panicked on near-degenerate input in the past; the
+                // builder already rejects flat point clouds, this keeps a panic from escaping.
+                let hull = catch_unwind(AssertUnwindSafe(|| SharedShape::convex_hull(&points)))
+                    .ok()
+                    .flatten();
+                hull.ok_or_else(|| Error::DegenerateMesh {
+                    what: what.to_string(),
+                    reason: "convex hull construction failed".into(),
+                })?
+            }
+        };
+        let local = shape.bounding_sphere();
+        Ok(CompiledShape {
+            shape: compiled,
+            owner_from_parry: owner_from_shape * shape_from_parry,
+            sphere: BoundingSphere {
+                center: owner_from_shape * local.center,
+                radius: local.radius,
+            },
+        })
+    }
+
+    /// The bounding sphere's centre in the world, given the owner's world pose.
+    pub(crate) fn world_center(&self, world_from_owner: &Isometry3<f64>) -> Point3<f64> {
+        world_from_owner * self.sphere.center
+    }
+}
+
+/// A compiled shape placed in the world.
+pub(crate) struct Placed<'a> {
+    pub shape: &'a CompiledShape,
+    pub pose: parry3d_f64::math::Pose,
+    pub center: Point3<f64>,
+}
+
+impl<'a> Placed<'a> {
+    /// Places `shape` for an owner at `world_from_owner`.
+    pub(crate) fn new(shape: &'a CompiledShape, world_from_owner: &Isometry3<f64>) -> Self {
+        Placed {
+            shape,
+            pose: convert::pose(&(world_from_owner * shape.owner_from_parry)),
+            center: shape.world_center(world_from_owner),
+        }
+    }
+
+    /// A lower bound on the distance (m) between the two shapes from their bounding spheres.
+    pub(crate) fn sphere_gap(&self, other: &Placed<'_>) -> f64 {
+        (self.center - other.center).norm() - self.shape.sphere.radius - other.shape.sphere.radius
+    }
+
+    /// The exact separation distance (m), 0 if touching or overlapping. A pair parry does not
+    /// support (none of the convex shapes used here) counts as touching (conservative).
+    pub(crate) fn distance(&self, other: &Placed<'_>) -> f64 {
+        query::distance(
+            &self.pose,
+            &*self.shape.shape,
+            &other.pose,
+            &*other.shape.shape,
+        )
+        .map(|d| d.distance.max(0.0))
+        .unwrap_or(0.0)
+    }
+}
+
+/// All compiled collision geometry of a model.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct CollisionGeometry {
+    /// Per part (by id), its colliders in the part frame.
+    pub parts: Vec<Vec<CompiledShape>>,
+    /// Base shapes (by id), in the world frame.
+    pub base: Vec<CompiledShape>,
+}

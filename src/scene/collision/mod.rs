@@ -1,0 +1,21 @@
+//! Collision queries with parry3d (f64): part–part and part–base at a state, and along a
+//! one-joint motion with a continuous-sound sampled check.
+//!
+//! Geometry is compiled into parry shapes once, when the model is built; parry's glam types
+//! stay inside this module (`convert.rs` is the only place that converts). Every query first
+//! compares bounding spheres and computes exact parry distances only for pairs that can be
+//! within the distance of interest.
+//!
+//! The collision predicate is documented on [`CollisionSettings`]; the sweep guarantee on
+//! [`check_joint_motion`].
+
+pub(crate) mod convert;
+pub(crate) mod geometry;
+mod query;
+mod search;
+mod settings;
+mod sweep;
+
+pub use query::{Contact, collisions, distances, is_collision_free};
+pub use settings::{AllowedCollisions, Body, CollisionSettings, SweepSettings};
+pub use sweep::{InconclusiveReason, SweepOutcome, SweepStatus, check_joint_motion};
