@@ -1,1 +1,11 @@
-//! placeholder during bootstrap
+#![doc = include_str!("../README.md")]
+#![warn(missing_docs)]
+
+pub mod error;
+pub mod scene;
+pub use error::Error;
+
+#[cfg(feature = "pinocchio")]
+pub mod kinematics;
+#[cfg(any(feature = "ompl", feature = "casadi"))]
+pub mod motion;

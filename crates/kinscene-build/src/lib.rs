@@ -51,7 +51,10 @@ pub fn env_override(
     }
     fail(
         backend,
-        &[format!("{name}={}: expected a directory that {requirement}", dir.display())],
+        &[format!(
+            "{name}={}: expected a directory that {requirement}",
+            dir.display()
+        )],
         &format!("{name} to a directory that {requirement}, or unset it"),
     )
 }

@@ -1,0 +1,4 @@
+//! Integration tests, compiled as one binary.
+
+mod backends;
+mod scene;
