@@ -1,5 +1,6 @@
 //! Collision queries at a state and along one-joint motions, on hand-built scenes.
 
+use super::fixtures::hinged_door;
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use kinscene::scene::collision::{
@@ -149,21 +150,11 @@ fn allowed_pairs_are_not_checked() {
 fn parent_child_pairs_are_skipped_unless_asked() {
     // A child overlapping its parent (a rack inside a door).
     let mut b = SceneModelBuilder::new();
-    b.add_part(
-        PartSpec::on_base(
-            "door",
-            Joint::revolute(
-                "hinge",
-                Point3::origin(),
-                Vector3::z(),
-                Limits::new(0.0, PI),
-            ),
-        )
-        .with_collider(
-            Shape::cuboid(Vector3::new(0.2, 0.2, 0.2)),
-            Isometry3::identity(),
-        ),
-    );
+    b.add_part(hinged_door(
+        PI,
+        Vector3::new(0.2, 0.2, 0.2),
+        Vector3::new(0.0, 0.0, 0.0),
+    ));
     b.add_part(
         PartSpec::on_part(
             "rack",

@@ -7,6 +7,24 @@ use kinscene::scene::{
 };
 use nalgebra::{Isometry3, Point3, Vector3};
 
+/// A part `door` on the base, hinged by `hinge` at the world origin about +z with limits
+/// [0, upper] rad, with one cuboid collider (`half_extents`, centred at `centre` in the door frame).
+pub fn hinged_door(upper: f64, half_extents: Vector3<f64>, centre: Vector3<f64>) -> PartSpec {
+    PartSpec::on_base(
+        "door",
+        Joint::revolute(
+            "hinge",
+            Point3::origin(),
+            Vector3::z(),
+            Limits::new(0.0, upper),
+        ),
+    )
+    .with_collider(
+        Shape::cuboid(half_extents),
+        Isometry3::translation(centre.x, centre.y, centre.z),
+    )
+}
+
 /// A kitchenette:
 /// - `door` on hinge `door_hinge`: pivot (1, 2, 0.5), axis +z, limits [0, 2] rad; a 0.45 m
 ///   wide slab along +x of the part frame; handle `door_handle` at (0.45, -0.02, 0.3), normal -y.

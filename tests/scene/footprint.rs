@@ -1,5 +1,6 @@
 //! The navigation grid and part footprints, against grids computed by hand.
 
+use super::fixtures::hinged_door;
 use std::collections::BTreeSet;
 use std::f64::consts::FRAC_PI_2;
 
@@ -7,10 +8,9 @@ use kinscene::scene::nav::{
     GridBounds, NavGrid, NavGridSettings, footprint, occupancy, part_footprint,
 };
 use kinscene::scene::{
-    BaseShape, Joint, Limits, PartSpec, SceneData, SceneModel, SceneModelBuilder, Shape, State,
-    forward_kinematics,
+    BaseShape, SceneData, SceneModel, SceneModelBuilder, Shape, State, forward_kinematics,
 };
-use nalgebra::{Isometry3, Point2, Point3, Vector3};
+use nalgebra::{Isometry3, Point2, Vector3};
 
 /// Grid [-1, 1]² at 0.1 m: 20 × 20 cells, cell (i, j) = [-1 + 0.1 i, -1 + 0.1 (i+1)] × (same
 /// in y). A door hinged at the origin (axis +z), slab x ∈ [0.01, 0.39], y ∈ [0.01, 0.03],
@@ -41,21 +41,11 @@ fn scene() -> SceneModel {
         Shape::cuboid(Vector3::new(0.3, 0.3, 0.2)),
         Isometry3::translation(-0.5, -0.5, 2.3),
     ));
-    b.add_part(
-        PartSpec::on_base(
-            "door",
-            Joint::revolute(
-                "hinge",
-                Point3::origin(),
-                Vector3::z(),
-                Limits::new(0.0, FRAC_PI_2),
-            ),
-        )
-        .with_collider(
-            Shape::cuboid(Vector3::new(0.19, 0.01, 0.5)),
-            Isometry3::translation(0.2, 0.02, 0.5),
-        ),
-    );
+    b.add_part(hinged_door(
+        FRAC_PI_2,
+        Vector3::new(0.19, 0.01, 0.5),
+        Vector3::new(0.2, 0.02, 0.5),
+    ));
     b.build().unwrap()
 }
 

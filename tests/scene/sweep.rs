@@ -1,6 +1,7 @@
 //! Sweeps that need more than a fixed sampling: a thin plate between coarse samples, a
 //! grazing contact below the resolution, the sample budget.
 
+use super::fixtures::hinged_door;
 use std::f64::consts::FRAC_PI_2;
 
 use kinscene::scene::collision::{
@@ -18,21 +19,11 @@ use super::collision::sweep;
 /// on the base standing radially at 27° from the hinge, 0.2 to 0.45 m out.
 fn door_and_plate() -> SceneModel {
     let mut b = SceneModelBuilder::new();
-    b.add_part(
-        PartSpec::on_base(
-            "door",
-            Joint::revolute(
-                "hinge",
-                Point3::origin(),
-                Vector3::z(),
-                Limits::new(0.0, FRAC_PI_2),
-            ),
-        )
-        .with_collider(
-            Shape::cuboid(Vector3::new(0.25, 0.01, 0.35)),
-            Isometry3::translation(0.25, 0.01, 0.35),
-        ),
-    );
+    b.add_part(hinged_door(
+        FRAC_PI_2,
+        Vector3::new(0.25, 0.01, 0.35),
+        Vector3::new(0.25, 0.01, 0.35),
+    ));
     let angle = 27f64.to_radians();
     let plate_pose = Isometry3::new(
         Vector3::new(0.325 * angle.cos(), 0.325 * angle.sin(), 0.35),
