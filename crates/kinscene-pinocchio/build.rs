@@ -6,10 +6,16 @@
 //! - `cmeel.prefix` in the project-local venv `.deps/venv` (written by `setup.sh`), then in the
 //!   `site-packages` of the `python3` on `PATH`.
 //!
-//! Eigen comes from the same prefix (`include/eigen3`, wheel `cmeel-eigen`). The compile
-//! definitions Pinocchio's headers need (boost MPL/fusion limits, explicit template
-//! instantiation) are read from the prefix's `lib/cmake/pinocchio/pinocchioTargets.cmake`, so
-//! they follow the installed version instead of being hard-coded here.
+//! Eigen comes from the same prefix (`include/eigen3`, wheel `cmeel-eigen`), and so do the
+//! urdfdom headers the URDF parser's header includes (`include/urdfdom_headers`, wheel
+//! `cmeel-urdfdom-headers`; listed first so that a system `urdf_model` is never picked). The
+//! compile definitions Pinocchio's headers need (boost MPL/fusion limits, explicit template
+//! instantiation, `PINOCCHIO_WITH_URDFDOM` and the urdfdom header version) are read from the
+//! prefix's `lib/cmake/pinocchio/pinocchioTargets.cmake`, so they follow the installed version
+//! instead of being hard-coded here.
+//!
+//! The shim links `pinocchio_default` (kinematics), `pinocchio_parsers` (URDF) and
+//! `console_bridge` (to capture urdfdom's diagnostics), all from the prefix.
 
 use std::path::{Path, PathBuf};
 
@@ -18,14 +24,29 @@ const MUST_CONTAIN: &[&str] = &[
     "include/pinocchio/multibody.hpp",
     "include/pinocchio/algorithm/frames.hpp",
     "include/eigen3/Eigen/Core",
+    "include/pinocchio/parsers/urdf.hpp",
+    "include/urdfdom_headers/urdf_model/model.h",
+    "include/console_bridge/console.h",
     "lib/libpinocchio_default.so",
+    "lib/libpinocchio_parsers.so",
+    "lib/libconsole_bridge.so",
     "lib/cmake/pinocchio/pinocchioTargets.cmake",
 ];
 
-/// The CMake targets whose interface definitions a shim linking `pinocchio_default` inherits.
+/// Which wheel provides each entry of [`MUST_CONTAIN`], for the message when one is missing.
+const PROVIDED_BY: &[(&str, &str)] = &[
+    ("include/eigen3", "cmeel-eigen"),
+    ("include/urdfdom_headers", "cmeel-urdfdom-headers"),
+    ("include/console_bridge", "cmeel-console-bridge"),
+    ("lib/libconsole_bridge", "cmeel-console-bridge"),
+];
+
+/// The CMake targets whose interface definitions a shim linking `pinocchio_default` and
+/// `pinocchio_parsers` inherits.
 const TARGETS: &[&str] = &[
     "pinocchio::pinocchio_headers",
     "pinocchio::pinocchio_default",
+    "pinocchio::pinocchio_parsers",
 ];
 
 fn main() {
@@ -49,21 +70,36 @@ fn main() {
         );
     }
 
+    if !defines.iter().any(|d| d == "PINOCCHIO_WITH_URDFDOM") {
+        println!(
+            "cargo:warning=kinscene: no PINOCCHIO_WITH_URDFDOM in {}; the URDF parser may not compile",
+            targets_file.display()
+        );
+    }
+
     let mut so = kinscene_build::SharedObject::new("kinscene_pinocchio_shim")
         .source(manifest.join("cpp/shim.cpp"))
+        .source(manifest.join("cpp/urdf.cpp"))
         .header(manifest.join("cpp/shim.h"))
+        .header(manifest.join("cpp/urdf.hpp"))
         .include(manifest.join("cpp"))
+        .include(prefix.join("include/urdfdom_headers"))
         .include(prefix.join("include"))
         .include(prefix.join("include/eigen3"))
         .flag("-std=c++17")
         .lib_dir(prefix.join("lib"))
-        .lib("pinocchio_default");
+        .lib("pinocchio_parsers")
+        .lib("pinocchio_default")
+        .lib("console_bridge");
     for d in defines {
         so = so.define(d);
     }
-    // The algorithms used by the shim are all explicitly instantiated in libpinocchio_default
-    // (the shim calls them with exactly those signatures), so `-z defs` needs no other library:
-    // no boost.serialization or coal symbol is referenced from the shim itself.
+    // The kinematics algorithms used by the shim are explicitly instantiated in
+    // libpinocchio_default (the shim calls them with exactly those signatures); the URDF
+    // parser's work happens in libpinocchio_parsers (`parseRootTreeFromXML`, called with the
+    // header-defined visitor), and console_bridge provides the log handler hooks. `-z defs`
+    // needs no other library: no boost.serialization, coal or urdfdom symbol is referenced from
+    // the shim itself.
     so.build("KINSCENE_PINOCCHIO_SHIM_BUILT");
 }
 
@@ -84,12 +120,27 @@ fn find_prefix() -> PathBuf {
         return dir;
     }
     for sp in kinscene_build::site_packages_candidates() {
-        searched.push(format!("{}/cmeel.prefix", sp.display()));
+        let dir = sp.join("cmeel.prefix");
+        let missing: Vec<String> = MUST_CONTAIN
+            .iter()
+            .filter(|f| dir.is_dir() && !dir.join(f).exists())
+            .map(
+                |f| match PROVIDED_BY.iter().find(|(p, _)| f.starts_with(p)) {
+                    Some((_, wheel)) => format!("{f} (wheel {wheel})"),
+                    None => (*f).to_owned(),
+                },
+            )
+            .collect();
+        if missing.is_empty() {
+            searched.push(dir.display().to_string());
+        } else {
+            searched.push(format!("{} lacks {}", dir.display(), missing.join(", ")));
+        }
     }
     kinscene_build::fail(
         "Pinocchio",
         &searched,
-        "KINSCENE_PINOCCHIO_PREFIX to a cmeel prefix (`pip install libpinocchio cmeel-eigen`, then `python -m cmeel cmake` prints it)",
+        "KINSCENE_PINOCCHIO_PREFIX to a cmeel prefix (`pip install libpinocchio cmeel-eigen cmeel-urdfdom-headers`, then `python -m cmeel cmake` prints it)",
     );
 }
 

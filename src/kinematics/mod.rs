@@ -1,7 +1,8 @@
 //! Kinematics layer: robot and scene kinematics on top of Pinocchio.
 //!
-//! [`pinocchio`] is the safe binding (models built programmatically from Rust, forward
-//! kinematics, frame Jacobians, configuration-space `integrate`/`difference`). Higher layers
+//! [`pinocchio`] is the safe binding (models built from Rust or parsed from URDF with
+//! `Model::from_urdf_str`, forward kinematics, frame Jacobians, configuration-space
+//! `integrate`/`difference`). Higher layers
 //! ([`crate::motion`]) import from here, never the other way round.
 
 pub use kinscene_pinocchio as pinocchio;

@@ -8,6 +8,8 @@
 #include <chrono>
 #include <string>
 
+#include "urdf.hpp"
+
 #include <pinocchio/multibody.hpp>
 #include <pinocchio/algorithm/frames.hpp>
 #include <pinocchio/algorithm/jacobian.hpp>
@@ -84,6 +86,51 @@ pin::JointModel make_joint(int kind, const Eigen::Vector3d& axis) {
     }
 }
 
+pin::FrameType frame_type(int kind) {
+    switch (kind) {
+    case KS_PIN_OP_FRAME: return pin::OP_FRAME;
+    case KS_PIN_FIXED_JOINT: return pin::FIXED_JOINT;
+    case KS_PIN_BODY: return pin::BODY;
+    default: throw ks::InvalidArgument("frames of this kind cannot be added");
+    }
+}
+
+int frame_kind(pin::FrameType type) {
+    switch (type) {
+    case pin::OP_FRAME: return KS_PIN_OP_FRAME;
+    case pin::FIXED_JOINT: return KS_PIN_FIXED_JOINT;
+    case pin::BODY: return KS_PIN_BODY;
+    case pin::JOINT: return KS_PIN_JOINT_FRAME;
+    default: return KS_PIN_SENSOR;
+    }
+}
+
+// The ks_pin_joint_kind and unit axis of a Pinocchio joint (the inverse of make_joint).
+int joint_kind(const pin::JointModel& joint, Eigen::Vector3d& axis) {
+    const auto& v = joint.toVariant();
+    axis.setZero();
+    if (boost::get<pin::JointModelRX>(&v)) return axis = Eigen::Vector3d::UnitX(), KS_PIN_REVOLUTE;
+    if (boost::get<pin::JointModelRY>(&v)) return axis = Eigen::Vector3d::UnitY(), KS_PIN_REVOLUTE;
+    if (boost::get<pin::JointModelRZ>(&v)) return axis = Eigen::Vector3d::UnitZ(), KS_PIN_REVOLUTE;
+    if (const auto* j = boost::get<pin::JointModelRevoluteUnaligned>(&v))
+        return axis = j->axis, KS_PIN_REVOLUTE;
+    if (boost::get<pin::JointModelRUBX>(&v))
+        return axis = Eigen::Vector3d::UnitX(), KS_PIN_REVOLUTE_UNBOUNDED;
+    if (boost::get<pin::JointModelRUBY>(&v))
+        return axis = Eigen::Vector3d::UnitY(), KS_PIN_REVOLUTE_UNBOUNDED;
+    if (boost::get<pin::JointModelRUBZ>(&v))
+        return axis = Eigen::Vector3d::UnitZ(), KS_PIN_REVOLUTE_UNBOUNDED;
+    if (const auto* j = boost::get<pin::JointModelRevoluteUnboundedUnaligned>(&v))
+        return axis = j->axis, KS_PIN_REVOLUTE_UNBOUNDED;
+    if (boost::get<pin::JointModelPX>(&v)) return axis = Eigen::Vector3d::UnitX(), KS_PIN_PRISMATIC;
+    if (boost::get<pin::JointModelPY>(&v)) return axis = Eigen::Vector3d::UnitY(), KS_PIN_PRISMATIC;
+    if (boost::get<pin::JointModelPZ>(&v)) return axis = Eigen::Vector3d::UnitZ(), KS_PIN_PRISMATIC;
+    if (const auto* j = boost::get<pin::JointModelPrismaticUnaligned>(&v))
+        return axis = j->axis, KS_PIN_PRISMATIC;
+    if (boost::get<pin::JointModelPlanar>(&v)) return KS_PIN_PLANAR;
+    return KS_PIN_UNSUPPORTED;
+}
+
 }  // namespace
 
 KS_API void ks_pin_version(char* out, size_t len) { ks::set_error(out, len, PINOCCHIO_VERSION); }
@@ -145,11 +192,85 @@ KS_API int ks_pin_model_add_frame(ks_pin_model* model, const char* name, size_t 
         pin::Model& m = model->model;
         check_joint(m, parent_joint);
         check_frame(m, parent_frame);
-        const pin::FrameType type = kind == KS_PIN_FIXED_JOINT ? pin::FIXED_JOINT : pin::OP_FRAME;
+        const pin::FrameType type = frame_type(kind);
         const pin::Frame frame(std::string(name), parent_joint, parent_frame,
                                se3_from_pose7(joint_from_frame), type);
         *out_frame = m.addFrame(frame, false);
     });
+}
+
+KS_API int ks_pin_model_from_urdf(const char* xml, size_t xml_len, ks_pin_model** out,
+                                  char* err, size_t err_len) {
+    return ks::guard(err, err_len, [&] {
+        auto* model = new ks_pin_model();
+        try {
+            model->model = ks::model_from_urdf(std::string(xml, xml_len));
+        } catch (...) {
+            delete model;
+            throw;
+        }
+        *out = model;
+    });
+}
+
+KS_API int ks_pin_model_joint_info(const ks_pin_model* model, size_t joint,
+                                   ks_pin_joint_info* out, char* err, size_t err_len) {
+    return ks::guard(err, err_len, [&] {
+        const pin::Model& m = model->model;
+        check_joint(m, joint);
+        if (joint == 0) throw ks::InvalidArgument("the universe joint has no joint model");
+        const pin::JointModel& j = m.joints[joint];
+        Eigen::Vector3d axis;
+        out->kind = joint_kind(j, axis);
+        for (int k = 0; k < 3; ++k) out->axis[k] = axis[k];
+        out->parent = m.parents[joint];
+        pose7_from_se3(m.jointPlacements[joint], out->parent_from_joint);
+        out->idx_q = static_cast<size_t>(m.idx_qs[joint]);
+        out->idx_v = static_cast<size_t>(m.idx_vs[joint]);
+        out->nq = static_cast<size_t>(m.nqs[joint]);
+        out->nv = static_cast<size_t>(m.nvs[joint]);
+        out->lower = m.lowerPositionLimit[m.idx_qs[joint]];
+        out->upper = m.upperPositionLimit[m.idx_qs[joint]];
+        out->velocity = m.upperVelocityLimit[m.idx_vs[joint]];
+        out->effort = m.upperEffortLimit[m.idx_vs[joint]];
+        ks::set_error(out->type_name, sizeof out->type_name, j.shortname().c_str());
+    });
+}
+
+KS_API int ks_pin_model_frame_info(const ks_pin_model* model, size_t frame,
+                                   ks_pin_frame_info* out, char* err, size_t err_len) {
+    return ks::guard(err, err_len, [&] {
+        const pin::Model& m = model->model;
+        check_frame(m, frame);
+        const pin::Frame& f = m.frames[frame];
+        out->kind = frame_kind(f.type);
+        out->parent_joint = f.parentJoint;
+        out->parent_frame = f.parentFrame;
+        pose7_from_se3(f.placement, out->joint_from_frame);
+    });
+}
+
+KS_API int ks_pin_model_inertia(const ks_pin_model* model, size_t joint, double* mass,
+                                double* com, double* inertia, char* err, size_t err_len) {
+    return ks::guard(err, err_len, [&] {
+        const pin::Model& m = model->model;
+        check_joint(m, joint);
+        const pin::Inertia& y = m.inertias[joint];
+        *mass = y.mass();
+        for (int k = 0; k < 3; ++k) com[k] = y.lever()[k];
+        Eigen::Map<Eigen::Matrix3d> rotational(inertia);
+        rotational = y.inertia().matrix();
+    });
+}
+
+KS_API const char* ks_pin_model_joint_name(const ks_pin_model* model, size_t joint) {
+    const pin::Model& m = model->model;
+    return joint < m.names.size() ? m.names[joint].c_str() : nullptr;
+}
+
+KS_API const char* ks_pin_model_frame_name(const ks_pin_model* model, size_t frame) {
+    const pin::Model& m = model->model;
+    return frame < m.frames.size() ? m.frames[frame].name.c_str() : nullptr;
 }
 
 KS_API void ks_pin_model_sizes(const ks_pin_model* model, size_t* nq, size_t* nv,

@@ -27,12 +27,36 @@ enum ks_pin_joint_kind : int {
     KS_PIN_REVOLUTE_UNBOUNDED = 1,  // nq = 2 (cos, sin), nv = 1, about `axis`
     KS_PIN_PRISMATIC = 2,           // nq = 1, nv = 1, along `axis`
     KS_PIN_PLANAR = 3,              // nq = 4 (x, y, cos, sin), nv = 3, in the joint's XY plane
+    KS_PIN_UNSUPPORTED = -1,        // read-back only: a Pinocchio joint type without an equivalent
 };
 
 enum ks_pin_frame_kind : int {
     KS_PIN_OP_FRAME = 0,
     KS_PIN_FIXED_JOINT = 1,
+    KS_PIN_BODY = 2,         // the frame of a URDF link
+    KS_PIN_JOINT_FRAME = 3,  // read-back only: a joint's own frame (made by add_joint)
+    KS_PIN_SENSOR = 4,       // read-back only
 };
+
+// One joint of a model, as Pinocchio holds it (ks_pin_model_joint_info).
+typedef struct ks_pin_joint_info {
+    int kind;                    // ks_pin_joint_kind; KS_PIN_UNSUPPORTED for other types
+    double axis[3];              // unit axis in the joint frame (zero for planar/unsupported)
+    size_t parent;               // parent joint index
+    double parent_from_joint[7]; // pose7 of the joint frame in the parent joint's frame
+    size_t idx_q, idx_v, nq, nv;
+    double lower, upper;         // position limits of the joint's first q coordinate
+    double velocity, effort;     // upper velocity and effort limits of its first v coordinate
+    char type_name[64];          // Pinocchio's shortname() ("JointModelRX"), NUL-terminated
+} ks_pin_joint_info;
+
+// One frame of a model (ks_pin_model_frame_info).
+typedef struct ks_pin_frame_info {
+    int kind;                    // ks_pin_frame_kind
+    size_t parent_joint;
+    size_t parent_frame;         // Pinocchio's previous frame in the kinematic tree
+    double joint_from_frame[7];  // pose7 of the frame in its parent joint's frame
+} ks_pin_frame_info;
 
 enum ks_pin_reference_frame : int {
     KS_PIN_LOCAL = 0,
@@ -64,10 +88,34 @@ KS_API int ks_pin_model_append_body(ks_pin_model* model, size_t joint, double ma
                                     const double* com, const double* inertia, char* err,
                                     size_t err_len);
 
-// Adds a frame fixed to `parent_joint` (whose JOINT frame is `parent_frame`).
+// Adds a frame fixed to `parent_joint` (whose JOINT frame is `parent_frame`). `kind` is
+// KS_PIN_OP_FRAME, KS_PIN_FIXED_JOINT or KS_PIN_BODY.
 KS_API int ks_pin_model_add_frame(ks_pin_model* model, const char* name, size_t parent_joint,
                                   size_t parent_frame, const double* joint_from_frame, int kind,
                                   size_t* out_frame, char* err, size_t err_len);
+
+// Parses a URDF document (`xml_len` bytes, not necessarily NUL-terminated) into a new
+// fixed-base model: pinocchio::urdf::buildModelFromXML without a root joint. Joints become
+// Pinocchio joints (revolute/continuous/prismatic with the specialised X/Y/Z type when the axis
+// is a coordinate axis), links BODY frames, fixed joints FIXED_JOINT frames; inertias are
+// appended to their joints. A malformed document or one Pinocchio rejects gives KS_EXCEPTION,
+// with urdfdom's own diagnostics (normally printed to stderr) appended to the message.
+KS_API int ks_pin_model_from_urdf(const char* xml, size_t xml_len, ks_pin_model** out,
+                                  char* err, size_t err_len);
+
+// Read-back, for models Pinocchio built (URDF): joint `joint` (1..njoints-1), frame `frame`,
+// and the total inertia carried by `joint` (0..njoints-1; mass in kg, centre of mass in the
+// joint frame, rotational inertia about it in joint axes, 9 doubles column-major).
+KS_API int ks_pin_model_joint_info(const ks_pin_model* model, size_t joint,
+                                   ks_pin_joint_info* out, char* err, size_t err_len);
+KS_API int ks_pin_model_frame_info(const ks_pin_model* model, size_t frame,
+                                   ks_pin_frame_info* out, char* err, size_t err_len);
+KS_API int ks_pin_model_inertia(const ks_pin_model* model, size_t joint, double* mass,
+                                double* com, double* inertia, char* err, size_t err_len);
+// The name of joint `joint` / frame `frame` (NULL when out of range). The pointer stays valid
+// while the model lives (models are never modified after construction).
+KS_API const char* ks_pin_model_joint_name(const ks_pin_model* model, size_t joint);
+KS_API const char* ks_pin_model_frame_name(const ks_pin_model* model, size_t frame);
 
 // Sizes, for consistency checks: nq, nv, number of joints (with the universe), of frames.
 KS_API void ks_pin_model_sizes(const ks_pin_model* model, size_t* nq, size_t* nv,

@@ -9,7 +9,7 @@
 
 use nalgebra::DVector;
 
-use crate::{Error, Model, ffi};
+use crate::{Error, JointIndex, JointKind, Model, ffi};
 
 /// Largest accepted `| ‖(cos, sin)‖ − 1 |` in q. Pinocchio uses the pair as is, so a pair off by
 /// ε scales the joint's rotation matrix by 1 + ε; 1e-9 keeps that error below what double
@@ -44,6 +44,54 @@ pub fn normalize(model: &Model, q: &mut DVector<f64>) -> Result<(), Error> {
             }
             q[i] /= norm;
             q[i + 1] /= norm;
+        }
+    }
+    Ok(())
+}
+
+/// Writes the value of the one-degree-of-freedom joint `joint` into `q`: the angle (radians)
+/// of a revolute joint, the displacement (metres) of a prismatic one, and for an unbounded
+/// revolute (URDF `continuous`) joint the pair `(cos θ, sin θ)` of the angle θ given. The
+/// other entries of `q` are left as they are. No limit is enforced (as everywhere in this
+/// crate).
+///
+/// This is how joint values keyed by name map onto q for a model whose layout came from
+/// elsewhere (e.g. [`Model::from_urdf_str`]): `model.joint_index(name)`, then this.
+///
+/// # Errors
+/// [`Error::DimensionMismatch`] (length of `q` ≠ nq), [`Error::JointOutOfRange`] (the
+/// universe or past the last joint), [`Error::NotScalarJoint`] for a planar joint,
+/// [`Error::NonFinite`] for a NaN or infinite value.
+pub fn set_joint_value(
+    model: &Model,
+    q: &mut DVector<f64>,
+    joint: JointIndex,
+    value: f64,
+) -> Result<(), Error> {
+    if q.len() != model.nq() {
+        return Err(Error::DimensionMismatch {
+            what: "q",
+            expected: model.nq(),
+            got: q.len(),
+        });
+    }
+    let j = model.joint(joint)?;
+    if !value.is_finite() {
+        return Err(Error::NonFinite {
+            what: "joint value",
+        });
+    }
+    match j.kind {
+        JointKind::Revolute { .. } | JointKind::Prismatic { .. } => q[j.idx_q] = value,
+        JointKind::RevoluteUnbounded { .. } => {
+            let (sin, cos) = value.sin_cos();
+            q[j.idx_q] = cos;
+            q[j.idx_q + 1] = sin;
+        }
+        JointKind::Planar => {
+            return Err(Error::NotScalarJoint {
+                joint: j.name.clone(),
+            });
         }
     }
     Ok(())

@@ -9,7 +9,7 @@ use crate::ffi::{self, RawModel};
 use crate::{Error, Frame, FrameKind, Inertia, Joint, JointIndex, JointKind};
 
 /// Owns a C++ model until it is handed to a `Model` (frees it when building fails half-way).
-struct Building(*mut RawModel);
+pub(crate) struct Building(pub(crate) *mut RawModel);
 
 impl Drop for Building {
     fn drop(&mut self) {
@@ -125,7 +125,8 @@ fn add_frame(
     let name = CString::new(frame.name.as_str()).expect("builder rejects NUL bytes");
     let kind = match frame.kind {
         FrameKind::FixedJoint => ffi::FIXED_JOINT,
-        _ => ffi::OP_FRAME,
+        FrameKind::Body => ffi::BODY,
+        FrameKind::Operational | FrameKind::Joint => ffi::OP_FRAME,
     };
     // The parent joint's own frame: the universe frame, or the JOINT frame of that joint.
     let parent_frame = frames
@@ -174,6 +175,6 @@ fn expect_index(what: &str, expected: usize, got: usize) -> Result<(), Error> {
     }
 }
 
-fn backend(function: &'static str, message: String) -> Error {
+pub(crate) fn backend(function: &'static str, message: String) -> Error {
     Error::Backend(kinscene_shim::CallError::Exception { function, message })
 }

@@ -132,6 +132,24 @@ pub enum Error {
         /// The pair's Euclidean norm.
         norm: f64,
     },
+    /// A joint of a model Pinocchio built (from URDF) has a type this crate has no
+    /// [`crate::JointKind`] for (e.g. a URDF `floating` joint, Pinocchio's `JointModelFreeFlyer`).
+    #[error(
+        "joint {joint:?}: Pinocchio joint type {kind} is not supported (revolute, continuous, prismatic and planar are)"
+    )]
+    UnsupportedJoint {
+        /// The joint's name.
+        joint: String,
+        /// Pinocchio's short name of the joint type.
+        kind: String,
+    },
+    /// A single joint value was given for a joint whose configuration is not one number
+    /// ([`crate::JointKind::Planar`]).
+    #[error("joint {joint:?} has no single joint value (it is planar)")]
+    NotScalarJoint {
+        /// The joint's name.
+        joint: String,
+    },
     /// A [`crate::Data`] was used with a [`crate::Model`] other than the one it was made for.
     #[error("this Data was created for a different Model")]
     DataModelMismatch,

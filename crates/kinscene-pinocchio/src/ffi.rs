@@ -29,9 +29,42 @@ pub(crate) const REVOLUTE_UNBOUNDED: c_int = 1;
 pub(crate) const PRISMATIC: c_int = 2;
 pub(crate) const PLANAR: c_int = 3;
 
+// KS_PIN_UNSUPPORTED (-1) is read back for other joint types: any value not matched above.
+
 /// `ks_pin_frame_kind`.
 pub(crate) const OP_FRAME: c_int = 0;
 pub(crate) const FIXED_JOINT: c_int = 1;
+pub(crate) const BODY: c_int = 2;
+pub(crate) const JOINT_FRAME: c_int = 3;
+
+/// `ks_pin_joint_info`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct JointInfo {
+    pub kind: c_int,
+    pub axis: [f64; 3],
+    pub parent: usize,
+    pub parent_from_joint: [f64; 7],
+    pub idx_q: usize,
+    pub idx_v: usize,
+    pub nq: usize,
+    pub nv: usize,
+    pub lower: f64,
+    pub upper: f64,
+    pub velocity: f64,
+    pub effort: f64,
+    pub type_name: [c_char; 64],
+}
+
+/// `ks_pin_frame_info`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct FrameInfo {
+    pub kind: c_int,
+    pub parent_joint: usize,
+    pub parent_frame: usize,
+    pub joint_from_frame: [f64; 7],
+}
 
 /// `ks_pin_reference_frame`.
 pub(crate) const LOCAL: c_int = 0;
@@ -82,6 +115,24 @@ pub(crate) struct Api {
         *mut c_char,
         usize,
     ) -> c_int,
+    pub model_from_urdf:
+        unsafe extern "C" fn(*const c_char, usize, *mut *mut RawModel, *mut c_char, usize) -> c_int,
+    pub model_joint_info:
+        unsafe extern "C" fn(*const RawModel, usize, *mut JointInfo, *mut c_char, usize) -> c_int,
+    pub model_frame_info:
+        unsafe extern "C" fn(*const RawModel, usize, *mut FrameInfo, *mut c_char, usize) -> c_int,
+    #[allow(clippy::type_complexity)]
+    pub model_inertia: unsafe extern "C" fn(
+        *const RawModel,
+        usize,
+        *mut f64,
+        *mut f64,
+        *mut f64,
+        *mut c_char,
+        usize,
+    ) -> c_int,
+    pub model_joint_name: unsafe extern "C" fn(*const RawModel, usize) -> *const c_char,
+    pub model_frame_name: unsafe extern "C" fn(*const RawModel, usize) -> *const c_char,
     pub model_sizes:
         unsafe extern "C" fn(*const RawModel, *mut usize, *mut usize, *mut usize, *mut usize),
     pub data_new:
@@ -176,6 +227,12 @@ fn load() -> Result<Api, LoadError> {
             model_add_joint: shim.function("ks_pin_model_add_joint")?,
             model_append_body: shim.function("ks_pin_model_append_body")?,
             model_add_frame: shim.function("ks_pin_model_add_frame")?,
+            model_from_urdf: shim.function("ks_pin_model_from_urdf")?,
+            model_joint_info: shim.function("ks_pin_model_joint_info")?,
+            model_frame_info: shim.function("ks_pin_model_frame_info")?,
+            model_inertia: shim.function("ks_pin_model_inertia")?,
+            model_joint_name: shim.function("ks_pin_model_joint_name")?,
+            model_frame_name: shim.function("ks_pin_model_frame_name")?,
             model_sizes: shim.function("ks_pin_model_sizes")?,
             data_new: shim.function("ks_pin_data_new")?,
             data_free: shim.function("ks_pin_data_free")?,

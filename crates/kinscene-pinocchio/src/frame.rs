@@ -14,7 +14,8 @@ impl FrameIndex {
     pub const UNIVERSE: FrameIndex = FrameIndex(0);
 }
 
-/// What a frame marks (Pinocchio's `FrameType`, restricted to the kinds this crate creates).
+/// What a frame marks (Pinocchio's `FrameType`, restricted to the kinds this crate creates or
+/// reads from URDF).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum FrameKind {
     /// The frame of a joint (`JOINT`), created with the joint.
@@ -24,6 +25,9 @@ pub enum FrameKind {
     /// The frame of a fixed joint (`FIXED_JOINT`), e.g. a URDF `fixed` joint merged into its
     /// parent link. The universe frame is of this kind too.
     FixedJoint,
+    /// The frame of a URDF link (`BODY`), in models built by [`crate::Model::from_urdf_str`];
+    /// find one with [`crate::Model::link_frame`].
+    Body,
 }
 
 /// What a [`crate::Model`] knows about one of its frames.

@@ -208,3 +208,16 @@ pub struct Joint {
     /// The joint's own frame (type `JOINT` in Pinocchio).
     pub frame: crate::FrameIndex,
 }
+
+impl Joint {
+    /// Number of this joint's configuration coordinates: `q[idx_q..idx_q + nq()]` (2 for a
+    /// continuous joint, whose coordinates are `(cos θ, sin θ)`).
+    pub fn nq(&self) -> usize {
+        self.kind.nq()
+    }
+
+    /// Number of this joint's velocity coordinates: `v[idx_v..idx_v + nv()]`.
+    pub fn nv(&self) -> usize {
+        self.kind.nv()
+    }
+}

@@ -1,10 +1,11 @@
 //! Safe Rust binding to [Pinocchio](https://github.com/stack-of-tasks/pinocchio) 4 kinematics.
 //!
 //! What it wraps: models built **programmatically from Rust** ([`ModelBuilder`]: revolute,
-//! unbounded revolute, prismatic and planar joints, bodies, fixed frames; no URDF parsing in
-//! C++), forward kinematics ([`forward_kinematics`], [`frame_placement`]), frame Jacobians in
-//! the three Pinocchio reference frames ([`frame_jacobian`], [`ReferenceFrame`]) and the
-//! configuration-space operations ([`integrate`], [`difference`], [`normalize`]).
+//! unbounded revolute, prismatic and planar joints, bodies, fixed frames) or **parsed from URDF
+//! by Pinocchio's own parser** ([`Model::from_urdf_str`], fixed base), forward kinematics
+//! ([`forward_kinematics`], [`frame_placement`]), frame Jacobians in the three Pinocchio
+//! reference frames ([`frame_jacobian`], [`ReferenceFrame`]) and the configuration-space
+//! operations ([`integrate`], [`difference`], [`normalize`], [`set_joint_value`]).
 //!
 //! Shape, after Pinocchio's own: an immutable [`Model`] (`Send + Sync`, share it between
 //! threads) and a mutable scratch [`Data`] per thread; algorithms are free functions
@@ -63,12 +64,13 @@ mod inertia;
 mod joint;
 mod kinematics;
 mod model;
+mod urdf;
 
 pub mod bench;
 
 pub use builder::{ModelBuilder, UNIVERSE_NAME};
 pub use configuration::{
-    UNIT_NORM_TOLERANCE, check_configuration, difference, integrate, normalize,
+    UNIT_NORM_TOLERANCE, check_configuration, difference, integrate, normalize, set_joint_value,
 };
 pub use data::Data;
 pub use error::Error;

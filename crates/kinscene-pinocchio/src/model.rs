@@ -53,7 +53,27 @@ impl Model {
         (nq, nv): (usize, usize),
     ) -> Result<Model, Error> {
         let raw = crate::construct::build_raw(&joints, &frames, &bodies, (nq, nv))?;
-        Ok(Model {
+        Ok(Model::from_raw(
+            raw,
+            joints,
+            frames,
+            bodies,
+            names,
+            (nq, nv),
+        ))
+    }
+
+    /// Wraps a C++ model whose contents `joints`, `frames`, `bodies` and `names` describe
+    /// exactly (checked by the caller).
+    pub(crate) fn from_raw(
+        raw: NonNull<RawModel>,
+        joints: Vec<Joint>,
+        frames: Vec<Frame>,
+        bodies: Vec<(JointIndex, Inertia)>,
+        names: HashMap<String, FrameIndex>,
+        (nq, nv): (usize, usize),
+    ) -> Model {
+        Model {
             raw,
             id: NEXT_MODEL_ID.fetch_add(1, Ordering::Relaxed),
             nq,
@@ -62,7 +82,7 @@ impl Model {
             frames,
             bodies,
             names,
-        })
+        }
     }
 
     /// Identifies this model among all models of the process (for [`crate::Data`] checks).
@@ -111,12 +131,19 @@ impl Model {
 
     /// The joint called `name` (`Some(JointIndex::UNIVERSE)` for `"universe"`).
     pub fn joint_index(&self, name: &str) -> Option<JointIndex> {
-        let frame = self.frames.get(self.names.get(name)?.0)?;
-        match frame.kind {
-            FrameKind::Joint => Some(frame.parent_joint),
-            _ if frame.name == crate::builder::UNIVERSE_NAME => Some(JointIndex::UNIVERSE),
-            _ => None,
+        if name == crate::builder::UNIVERSE_NAME {
+            return Some(JointIndex::UNIVERSE);
         }
+        let frame = self.frames.get(self.names.get(name)?.0)?;
+        if frame.kind == FrameKind::Joint {
+            return Some(frame.parent_joint);
+        }
+        // A URDF link may share its name with a joint (URDF keeps them in separate
+        // namespaces); `names` then holds whichever frame came first.
+        self.joints
+            .iter()
+            .position(|j| j.name == name)
+            .map(|i| JointIndex(i + 1))
     }
 
     /// A joint's name (`"universe"` for joint 0), `None` when out of range.
@@ -143,9 +170,21 @@ impl Model {
         })
     }
 
-    /// The frame called `name` (joint frames carry their joint's name).
+    /// The frame called `name` (joint frames carry their joint's name). In a model read from
+    /// URDF, where a link and a joint may share a name, this is the first such frame in index
+    /// order (as Pinocchio's `getFrameId` without a type); use [`Model::link_frame`] for links.
     pub fn frame_index(&self, name: &str) -> Option<FrameIndex> {
         self.names.get(name).copied()
+    }
+
+    /// The frame of URDF link `link` (a [`FrameKind::Body`] frame; models built by
+    /// [`Model::from_urdf_str`]). Its placement is the link frame: the child frame of the
+    /// link's joint, composed with any `fixed` joints in between.
+    pub fn link_frame(&self, link: &str) -> Option<FrameIndex> {
+        self.frames
+            .iter()
+            .position(|f| f.kind == FrameKind::Body && f.name == link)
+            .map(FrameIndex)
     }
 
     /// Bodies appended with [`ModelBuilder::add_body`], in order.
