@@ -6,6 +6,7 @@
 
 use serde::{Deserialize, Serialize};
 use std::fmt;
+use std::path::PathBuf;
 
 /// Which kind of named element of a scene an error refers to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -90,10 +91,11 @@ pub enum Error {
         parent: String,
     },
     /// The parent relation has a cycle: each part's parent is the next one, the last one's
-    /// parent is the first.
+    /// parent is the first. For a URDF document, the elements are link names (each link's
+    /// parent link is the next one).
     #[error("parent cycle through parts {parts:?}")]
     Cycle {
-        /// The parts on the cycle, in parent order.
+        /// The parts (or URDF links) on the cycle, in parent order.
         parts: Vec<String>,
     },
     /// A length, coordinate or limit exceeds [`MAX_MAGNITUDE`](crate::scene::MAX_MAGNITUDE) in
@@ -210,5 +212,158 @@ pub enum Error {
         cells: u64,
         /// Maximum allowed.
         max: u64,
+    },
+
+    // ----- URDF import (`scene::urdf::read_str` / `read_file`) -----
+    /// The document is not well-formed XML or not a URDF `<robot>` (urdf-rs's message), or its
+    /// elements are nested deeper than the importer accepts.
+    #[error("URDF parse error: {message}")]
+    UrdfParse {
+        /// What the parser reported.
+        message: String,
+    },
+    /// Two URDF links share a name.
+    #[error("duplicate URDF link name {name:?}")]
+    DuplicateLink {
+        /// The repeated link name.
+        name: String,
+    },
+    /// A URDF joint names a parent or child link that does not exist.
+    #[error("URDF joint {joint:?} names unknown {role} link {link:?}")]
+    MissingLink {
+        /// The joint.
+        joint: String,
+        /// `"parent"` or `"child"`.
+        role: String,
+        /// The link name it gave.
+        link: String,
+    },
+    /// A URDF link is the child of more than one joint.
+    #[error("URDF link {link:?} is the child of several joints {joints:?}")]
+    SeveralParents {
+        /// The link.
+        link: String,
+        /// The joints naming it as their child, in document order.
+        joints: Vec<String>,
+    },
+    /// Several URDF links are no joint's child; a scene has exactly one root (the base).
+    #[error("URDF has several root links {links:?}; a scene has exactly one (the static base)")]
+    SeveralRoots {
+        /// The root links, in document order.
+        links: Vec<String>,
+    },
+    /// The URDF robot has no links, so there is no root link for the base.
+    #[error("URDF robot {robot:?} has no links (no root link for the base)")]
+    NoRoot {
+        /// The `<robot name>`.
+        robot: String,
+    },
+    /// A URDF joint has a type a scene cannot express (`planar`, `floating`, `spherical`).
+    #[error(
+        "URDF joint {joint:?} has unsupported type {kind:?} (scenes use revolute, continuous, prismatic and fixed)"
+    )]
+    UnsupportedJointType {
+        /// The joint.
+        joint: String,
+        /// The type given.
+        kind: String,
+    },
+    /// A revolute or prismatic URDF joint has no `<limit>` with finite `lower` and `upper`.
+    #[error("URDF {kind} joint {joint:?} has no <limit> with finite lower and upper bounds")]
+    MissingLimits {
+        /// The joint.
+        joint: String,
+        /// `"revolute"` or `"prismatic"`.
+        kind: String,
+    },
+    /// A `*_handle` link is attached (through fixed joints) to the static base rather than to a
+    /// part; handles belong to articulated parts.
+    #[error("URDF handle link {handle:?} is attached to the static base, not to a part")]
+    HandleOnBase {
+        /// The handle link.
+        handle: String,
+    },
+    /// A mesh file does not exist.
+    #[error("URDF link {link:?}: mesh {uri:?} not found at {path:?}")]
+    MeshNotFound {
+        /// The link whose collision element references the mesh.
+        link: String,
+        /// The `filename` as written.
+        uri: String,
+        /// Where it was looked for.
+        path: PathBuf,
+    },
+    /// A mesh file exists but could not be read or parsed.
+    #[error("URDF link {link:?}: mesh {uri:?} at {path:?} is unreadable: {message}")]
+    MeshUnreadable {
+        /// The link whose collision element references the mesh.
+        link: String,
+        /// The `filename` as written.
+        uri: String,
+        /// The resolved path.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+    /// A mesh file is not STL, OBJ or COLLADA (`.dae`).
+    #[error(
+        "URDF link {link:?}: mesh {uri:?} at {path:?} has an unsupported format (use STL, OBJ or COLLADA .dae)"
+    )]
+    UnsupportedMeshFormat {
+        /// The link whose collision element references the mesh.
+        link: String,
+        /// The `filename` as written.
+        uri: String,
+        /// The resolved path.
+        path: PathBuf,
+    },
+    /// A mesh URI uses a scheme the importer does not resolve (for example `http://`).
+    #[error(
+        "URDF link {link:?}: mesh URI {uri:?} has an unsupported scheme (use a path, file:// or package://)"
+    )]
+    UnsupportedMeshUri {
+        /// The link whose collision element references the mesh.
+        link: String,
+        /// The `filename` as written.
+        uri: String,
+    },
+    /// A `package://NAME/...` mesh URI names a package missing from the import options'
+    /// package paths.
+    #[error("URDF link {link:?}: mesh {uri:?} names unknown package {package:?}")]
+    UnknownPackage {
+        /// The link whose collision element references the mesh.
+        link: String,
+        /// The `filename` as written.
+        uri: String,
+        /// The package name.
+        package: String,
+    },
+    /// Reading or writing a file or directory failed.
+    #[error("I/O error on {path:?}: {message}")]
+    Io {
+        /// The file or directory.
+        path: PathBuf,
+        /// The operating system's message.
+        message: String,
+    },
+
+    // ----- URDF export (`scene::urdf::write_string` / `write_file`) -----
+    /// A convex mesh without a source file cannot be referenced from URDF unless a mesh
+    /// directory is given to write it into.
+    #[error(
+        "{what} is a convex mesh without a source file; set ExportOptions::mesh_dir to write it as OBJ"
+    )]
+    MeshWithoutSource {
+        /// Which collider or base shape.
+        what: String,
+    },
+    /// A name cannot be written as a URDF link or joint name: two elements would get the same
+    /// link name, or it contains characters XML cannot hold.
+    #[error("cannot export name {name:?} to URDF: {reason}")]
+    UnwritableName {
+        /// The name.
+        name: String,
+        /// Why.
+        reason: String,
     },
 }

@@ -33,6 +33,7 @@ mod part;
 mod shape;
 mod state;
 mod tree;
+pub mod urdf;
 mod validate;
 
 pub use base::{BaseMap, BaseShape};

@@ -257,3 +257,30 @@ pub fn shape_points(shape: &Shape) -> Vec<Point3<f64>> {
         _ => Vec::new(),
     }
 }
+
+/// Like [`scene_builder`], with what a URDF round trip preserves: handle names end in
+/// `_handle` (the URDF handle convention, `kinscene::scene::urdf::HANDLE_SUFFIX`), and some
+/// revolute joints are `continuous` with the importer's default working range `[-π, π]`.
+pub fn urdf_scene_builder(max_parts: usize) -> impl Strategy<Value = SceneModelBuilder> {
+    (
+        scene_builder(max_parts),
+        prop::collection::vec(any::<bool>(), max_parts),
+    )
+        .prop_map(|(mut b, continuous)| {
+            for (p, c) in b.parts.iter_mut().zip(continuous) {
+                for h in &mut p.handles {
+                    h.name = format!("{}{}", h.name, kinscene::scene::urdf::HANDLE_SUFFIX);
+                }
+                if c && p.joint.kind == JointKind::Revolute {
+                    p.joint.continuous = true;
+                    p.joint.limits = Limits::new(-PI, PI);
+                }
+            }
+            b
+        })
+}
+
+/// A built scene from [`urdf_scene_builder`].
+pub fn urdf_scene(max_parts: usize) -> impl Strategy<Value = SceneModel> {
+    urdf_scene_builder(max_parts).prop_map(|b| b.build().expect("generated scenes are valid"))
+}

@@ -7,9 +7,14 @@ mod fixtures;
 mod footprint;
 pub mod generators;
 mod kinematics;
+mod kitchen;
+mod nested_bound;
 mod properties;
 mod state;
 mod sweep;
 mod sweep_soundness;
 mod trajectory;
+mod urdf;
+#[cfg(feature = "pinocchio")]
+mod urdf_pinocchio;
 mod validation;

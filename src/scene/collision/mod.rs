@@ -3,8 +3,8 @@
 //!
 //! Geometry is compiled into parry shapes once, when the model is built; parry's glam types
 //! stay inside this module (`convert.rs` is the only place that converts). Every query first
-//! compares bounding spheres and computes exact parry distances only for pairs that can be
-//! within the distance of interest.
+//! compares bounding spheres (the queries at a state also world-aligned boxes) and computes
+//! exact parry distances only for collider pairs that can be within the distance of interest.
 //!
 //! The collision predicate is documented on [`CollisionSettings`]; the sweep guarantee on
 //! [`check_joint_motion`].
@@ -16,6 +16,6 @@ mod search;
 mod settings;
 mod sweep;
 
-pub use query::{Contact, collisions, distances, is_collision_free};
+pub use query::{Contact, collisions, collisions_of, distances, is_collision_free};
 pub use settings::{AllowedCollisions, Body, CollisionSettings, SweepSettings};
 pub use sweep::{InconclusiveReason, SweepOutcome, SweepStatus, check_joint_motion};

@@ -1,8 +1,13 @@
 //! Collision and distance queries at one state.
 
+use std::cell::OnceCell;
+
+use nalgebra::{Isometry3, Point3, Vector3};
+
 use crate::scene::collision::geometry::Placed;
 use crate::scene::collision::settings::{Body, CollisionSettings};
 use crate::scene::ids::{BaseShapeId, Parent, PartId};
+use crate::scene::shape::Shape;
 use crate::scene::{Error, SceneData, SceneModel};
 
 /// A checked pair of bodies and their separation distance (m, 0 when touching or overlapping).
@@ -126,24 +131,158 @@ pub(crate) fn checked_pairs(
     pairs
 }
 
-/// Checked pairs whose exact distance is `<= threshold`, at the poses in `data`.
+/// Slack (m) of the box pre-filter: a collider pair is skipped only if its boxes are more
+/// than `threshold + BOX_SLACK` apart. The slack is far above the rounding of the box corners
+/// (about `1e-16` of the coordinates), so a skipped pair is farther apart than `threshold` in
+/// exact arithmetic, not only in floating point.
+const BOX_SLACK: f64 = 1e-9;
+
+/// An axis-aligned box in the world frame.
+#[derive(Debug, Clone, Copy)]
+struct WorldBox {
+    center: Vector3<f64>,
+    half: Vector3<f64>,
+}
+
+impl WorldBox {
+    /// A box containing `shape` placed at `world_from_shape`: the shape's box in its own
+    /// frame, rotated (`|R|·h`). Exact for cuboids and spheres; for the other shapes it
+    /// contains the shape (the shape lies in its own-frame box).
+    fn of(shape: &Shape, world_from_shape: &Isometry3<f64>) -> Self {
+        let (center, half) = match shape {
+            Shape::Cuboid { half_extents } => (Vector3::zeros(), *half_extents),
+            Shape::Sphere { radius } => (Vector3::zeros(), Vector3::repeat(*radius)),
+            Shape::Cylinder { radius, length } => (
+                Vector3::zeros(),
+                Vector3::new(*radius, *radius, length / 2.0),
+            ),
+            Shape::Capsule { radius, length } => (
+                Vector3::zeros(),
+                Vector3::new(*radius, *radius, length / 2.0 + radius),
+            ),
+            Shape::ConvexMesh { vertices, .. } => {
+                let (lo, hi) = vertices.iter().fold(
+                    (
+                        Vector3::repeat(f64::INFINITY),
+                        Vector3::repeat(f64::NEG_INFINITY),
+                    ),
+                    |(lo, hi), v| (lo.inf(&v.coords), hi.sup(&v.coords)),
+                );
+                ((lo + hi) / 2.0, (hi - lo) / 2.0)
+            }
+        };
+        let r = world_from_shape.rotation.to_rotation_matrix();
+        WorldBox {
+            center: (world_from_shape * Point3::from(center)).coords,
+            half: r.matrix().abs() * half,
+        }
+    }
+
+    /// The largest separation of the two boxes along a world axis (`<= 0` if they overlap):
+    /// a lower bound on the distance between any point of one and any point of the other.
+    fn gap(&self, o: &WorldBox) -> f64 {
+        ((self.center - o.center).abs() - self.half - o.half).max()
+    }
+}
+
+/// World boxes of the colliders of each body, computed on first use.
+struct Boxes<'a> {
+    model: &'a SceneModel,
+    data: &'a SceneData,
+    parts: Vec<OnceCell<Vec<WorldBox>>>,
+    base: Vec<OnceCell<WorldBox>>,
+}
+
+impl<'a> Boxes<'a> {
+    fn new(model: &'a SceneModel, data: &'a SceneData) -> Self {
+        Boxes {
+            model,
+            data,
+            parts: (0..model.parts.len()).map(|_| OnceCell::new()).collect(),
+            base: (0..model.base.shapes.len())
+                .map(|_| OnceCell::new())
+                .collect(),
+        }
+    }
+
+    /// The boxes of a body's colliders, in the order of its placed colliders.
+    fn body(&self, body: Body) -> &[WorldBox] {
+        match body {
+            Body::Part(p) => self.parts[p.0].get_or_init(|| {
+                let world_from_part = &self.data.world_from_parts()[p.0];
+                self.model.parts[p.0]
+                    .colliders
+                    .iter()
+                    .map(|c| WorldBox::of(&c.shape, &(world_from_part * c.part_from_shape)))
+                    .collect()
+            }),
+            Body::Base(b) => std::slice::from_ref(self.base[b.0].get_or_init(|| {
+                let s = &self.model.base.shapes[b.0];
+                WorldBox::of(&s.shape, &s.world_from_shape)
+            })),
+        }
+    }
+}
+
+/// The exact distance between two bodies (minimum over their collider pairs) if it is
+/// `<= threshold`, else `None`. A collider pair is evaluated exactly only if neither its
+/// bounding spheres nor its world boxes are farther apart than `threshold` (both are lower
+/// bounds on its distance) and its sphere gap is below the best distance so far.
+fn distance_within(
+    placement: &Placement<'_>,
+    boxes: &Boxes<'_>,
+    a: Body,
+    b: Body,
+    threshold: f64,
+) -> Option<f64> {
+    let mut best = f64::INFINITY;
+    let (pa, pb) = (placement.body(a), placement.body(b));
+    for (i, x) in pa.iter().enumerate() {
+        for (j, y) in pb.iter().enumerate() {
+            let gap = x.sphere_gap(y);
+            if gap > threshold || gap >= best {
+                continue;
+            }
+            if boxes.body(a)[i].gap(&boxes.body(b)[j]) > threshold + BOX_SLACK {
+                continue;
+            }
+            best = best.min(x.distance(y));
+        }
+    }
+    (best <= threshold).then_some(best)
+}
+
+/// Checked pairs whose exact distance is `<= threshold`, at the poses in `data`: every
+/// checked pair (`moving = None`) or those between the subtree of `moving` and the other
+/// bodies (`a` in the subtree).
 fn pairs_within(
     model: &SceneModel,
     data: &SceneData,
     settings: &CollisionSettings,
+    moving: Option<PartId>,
     threshold: f64,
 ) -> Result<Vec<Contact>, Error> {
     settings.validate()?;
     data.check(model)?;
+    if let Some(root) = moving {
+        model.checked_part(root)?;
+    }
     let placement = Placement::new(model, data);
-    Ok(checked_pairs(model, settings, None)
+    let boxes = Boxes::new(model, data);
+    Ok(checked_pairs(model, settings, moving)
         .into_iter()
         .filter_map(|(a, b)| {
-            let c = clearance(placement.body(Body::Part(a)), placement.body(b), threshold);
-            (c.exact <= threshold).then_some(Contact {
+            // Lower part id first, as in `checked_pairs(.., None)`, so that a pair's distance
+            // does not depend on which query found it.
+            let (first, second) = match b {
+                Body::Part(q) if q < a => (b, Body::Part(a)),
+                _ => (Body::Part(a), b),
+            };
+            let distance = distance_within(&placement, &boxes, first, second, threshold)?;
+            Some(Contact {
                 a: Body::Part(a),
                 b,
-                distance: c.exact,
+                distance,
             })
         })
         .collect())
@@ -151,7 +290,11 @@ fn pairs_within(
 
 /// The colliding body pairs at the state of the last
 /// [`forward_kinematics`](crate::scene::forward_kinematics) (predicate: see
-/// [`CollisionSettings`]). Bounding spheres skip far pairs before exact parry distances.
+/// [`CollisionSettings`]). Exact parry distances are computed only for collider pairs whose
+/// bounding spheres and world-aligned boxes (both lower bounds on their distance) are within
+/// `contact_distance`; a box skips a pair only when it is more than `1e-9` m beyond it (in
+/// exact arithmetic), so the filters change no answer beyond the exact distance query's own
+/// tolerance.
 ///
 /// # Errors
 /// [`Error::InvalidSetting`] for invalid settings; [`Error::DimensionMismatch`] if `data` is
@@ -161,7 +304,73 @@ pub fn collisions(
     data: &SceneData,
     settings: &CollisionSettings,
 ) -> Result<Vec<Contact>, Error> {
-    pairs_within(model, data, settings, settings.contact_distance)
+    pairs_within(model, data, settings, None, settings.contact_distance)
+}
+
+/// The colliding body pairs between the subtree of `moving` (the part and its descendants)
+/// and every other body, at the state of the last
+/// [`forward_kinematics`](crate::scene::forward_kinematics): exactly the pairs of
+/// [`collisions`] with one body in the subtree and the other outside it, with the same
+/// distances (same predicate, see [`CollisionSettings`]; same pre-filters).
+/// Pairs inside the subtree and pairs outside it are not evaluated, which is what makes this
+/// cheaper than filtering [`collisions`] when only one subtree moves.
+///
+/// In each [`Contact`], `a` is the part of the subtree. Order: by the subtree's part id, then
+/// the other parts by id, then the base shapes by id.
+///
+/// # Errors
+/// As [`collisions`], and [`Error::UnknownId`] if `moving` is not a part of `model`.
+///
+/// # Example
+/// ```
+/// use kinscene::scene::collision::{Body, CollisionSettings, collisions_of};
+/// use kinscene::scene::{
+///     BaseShape, Joint, Limits, PartSpec, SceneData, SceneModelBuilder, Shape,
+///     forward_kinematics,
+/// };
+/// use nalgebra::{Isometry3, Point3, Vector3};
+///
+/// // A drawer sliding along +x into a wall at x = 0.5 (wall box x ∈ [0.5, 0.7]).
+/// let mut b = SceneModelBuilder::new();
+/// b.add_base_shape(BaseShape::new(
+///     "wall",
+///     Shape::cuboid(Vector3::new(0.1, 1.0, 1.0)),
+///     Isometry3::translation(0.6, 0.0, 0.0),
+/// ));
+/// let slide = Joint::prismatic("slide", Point3::origin(), Vector3::x(), Limits::new(0.0, 0.5));
+/// b.add_part(
+///     PartSpec::on_base("drawer", slide)
+///         .with_collider(Shape::cuboid(Vector3::new(0.2, 0.2, 0.1)), Isometry3::identity()),
+/// );
+/// let model = b.build()?;
+/// let mut data = SceneData::new(&model);
+/// let drawer = model.part_id("drawer")?;
+/// let settings = CollisionSettings::default();
+/// // Closed, the drawer (x ∈ [-0.2, 0.2]) is 0.3 m from the wall.
+/// forward_kinematics(&model, &mut data, &model.zero_state())?;
+/// assert!(collisions_of(&model, &data, &settings, drawer)?.is_empty());
+/// // Pulled 0.4 m, it reaches x = 0.6: inside the wall.
+/// let state = kinscene::scene::State::from_slice(&model, &[0.4])?;
+/// forward_kinematics(&model, &mut data, &state)?;
+/// let contacts = collisions_of(&model, &data, &settings, drawer)?;
+/// assert_eq!(contacts.len(), 1);
+/// assert_eq!(contacts[0].a, Body::Part(drawer));
+/// assert_eq!(contacts[0].distance, 0.0);
+/// # Ok::<(), kinscene::scene::Error>(())
+/// ```
+pub fn collisions_of(
+    model: &SceneModel,
+    data: &SceneData,
+    settings: &CollisionSettings,
+    moving: PartId,
+) -> Result<Vec<Contact>, Error> {
+    pairs_within(
+        model,
+        data,
+        settings,
+        Some(moving),
+        settings.contact_distance,
+    )
 }
 
 /// Whether no checked pair collides at the state of the last forward kinematics.
@@ -192,5 +401,5 @@ pub fn distances(
             value: max_distance,
         });
     }
-    pairs_within(model, data, settings, max_distance)
+    pairs_within(model, data, settings, None, max_distance)
 }

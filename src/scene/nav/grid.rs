@@ -128,6 +128,11 @@ impl NavGrid {
             .map(move |(k, _)| (k % w, k / w))
     }
 
+    /// The occupancy of every cell, row-major (index `j·width + i`).
+    pub fn cells(&self) -> &[bool] {
+        &self.occupied
+    }
+
     /// Number of occupied cells.
     pub fn occupied_count(&self) -> usize {
         self.occupied.iter().filter(|o| **o).count()
