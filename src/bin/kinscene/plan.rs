@@ -1,0 +1,258 @@
+//! `kinscene plan --scene S.urdf --goal G.toml [--budget 10s] [--out plan.json]
+//! [--strategy search|random|paper] [--seed N] [--package NAME=PATH ...]`: plans the order
+//! of single-joint changes that reaches a goal ([`kinscene::task::plan`]) and writes the plan
+//! document.
+//!
+//! The goal file is TOML, or JSON if its name ends in `.json` (schema:
+//! [`kinscene::task::GoalSpec`]). The plan document
+//! ([`PlanFile`], schema in [`kinscene::task::PlanFile`]'s module docs) goes to `--out` or,
+//! without it, to standard output; it is written for every verdict, with `status` `"solved"`,
+//! `"infeasible"` (no steps, `reason` and `conflicts` say why) or `"timeout"` (the best
+//! partial plan, `reason` names the unmet goal joints).
+//!
+//! Exit codes: 0 solved, 3 infeasible, 4 timeout, 2 bad input. On 3 and 4 one line goes to
+//! standard error, `kinscene: infeasible: <reason>` or
+//! `kinscene: timeout after <budget>: <reason>` (`<reason>` is the document's `reason`): a
+//! verdict, not an error.
+//!
+//! **Conflicting targets.** When the search finds no plan although every goal target was met
+//! in some explored state on its own (the document then names no joint), `plan` looks for
+//! the targets that conflict: it re-plans without each target in turn, within what is left of
+//! the budget, and drops those the goal stays infeasible without (a deletion filter). The
+//! standard-error line then ends in
+//! `; conflicting targets: <joint>, <joint> (a plan exists when any one of them is dropped)`.
+//! The plan document is the planner's own and does not carry this diagnosis; if the budget
+//! runs out during it, the line omits it.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::time::Duration;
+
+use kinscene::scene::SceneModel;
+use kinscene::task::{
+    Goal, NoRefinement, Outcome, PlanFile, Problem, Strategy, TaskSettings, Termination, plan,
+};
+
+use crate::input::{SceneArgs, file_error, load_problem};
+use crate::{CliError, Verdict};
+
+/// The budget when `--budget` is not given.
+const DEFAULT_BUDGET: &str = "10s";
+
+/// Arguments of `kinscene plan`.
+#[derive(Debug, clap::Args)]
+#[command(
+    about = "Plan the order of single-joint changes that reaches a goal; print the plan as JSON",
+    long_about = "Loads a scene URDF and a goal file (TOML, or JSON if the name ends in .json), \
+                  searches for the cheapest order of single-joint changes that reaches the goal \
+                  and writes the plan document (JSON) to --out or stdout. The document is \
+                  written for every verdict. Exit codes: 0 solved, 3 infeasible, 4 timeout \
+                  (budget exhausted; the document holds the best partial plan), 2 bad input. \
+                  On 3 and 4 one line goes to stderr: `kinscene: infeasible: <reason>` or \
+                  `kinscene: timeout after <budget>: <reason>`. When every target is reachable \
+                  alone but not all together, the infeasible line also names a minimal set \
+                  of conflicting targets, found by re-planning without each target in turn \
+                  within the rest of the budget.",
+    after_long_help = concat!(
+        "Goal file (TOML; the same fields in JSON):\n\n",
+        include_str!("goal_schema.txt"),
+        "\nPlan document (JSON):\n\n",
+        include_str!("plan_schema.txt"),
+    )
+)]
+pub struct Args {
+    /// The scene and its mesh packages.
+    #[command(flatten)]
+    input: SceneArgs,
+    /// The goal file: TOML, or JSON if the name ends in `.json`.
+    #[arg(long, value_name = "FILE")]
+    goal: PathBuf,
+    /// Time budget: a number and a unit, `ms`, `s`, `m` or `h` (`500ms`, `1.5s`, `1m`).
+    #[arg(
+        long,
+        value_name = "DURATION",
+        default_value = DEFAULT_BUDGET,
+        allow_hyphen_values = true
+    )]
+    budget: String,
+    /// Write the plan document here instead of to stdout.
+    #[arg(long, value_name = "FILE")]
+    out: Option<PathBuf>,
+    /// The planner: the complete lattice search, or one of the paper's baselines.
+    #[arg(long, value_enum, default_value_t = StrategyArg::Search)]
+    strategy: StrategyArg,
+    /// Seed of the `random` and `paper` baselines' order sampler [default: 0].
+    #[arg(long, value_name = "N")]
+    seed: Option<u64>,
+}
+
+/// `--strategy`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum StrategyArg {
+    /// The complete lattice search (lazy A* over single-joint changes).
+    Search,
+    /// The paper's Random baseline: one random order of the goal joints.
+    Random,
+    /// The paper's planner: rejection-sampled orders, boxes at 6 samples.
+    Paper,
+}
+
+/// Parses a duration: a non-negative decimal number followed by `ms`, `s`, `m` or `h`.
+///
+/// # Errors
+/// A message for a missing or unknown unit, a number that does not parse, or a duration that
+/// is negative, not finite or too large.
+fn parse_duration(text: &str) -> Result<Duration, String> {
+    let s = text.trim();
+    let split = s
+        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .unwrap_or(s.len());
+    let (number, unit) = s.split_at(split);
+    let expected = "expected a number and a unit (ms, s, m, h), e.g. 2s, 500ms, 1.5s, 1m";
+    let scale = match unit {
+        "ms" => 1e-3,
+        "s" => 1.0,
+        "m" => 60.0,
+        "h" => 3600.0,
+        _ => return Err(expected.to_string()),
+    };
+    let value: f64 = number.parse().map_err(|_| expected.to_string())?;
+    Duration::try_from_secs_f64(value * scale).map_err(|e| format!("{e}"))
+}
+
+/// Runs `plan`: loads the inputs, plans within the budget and writes the plan document to
+/// `--out` or `out`.
+///
+/// # Errors
+/// A [`CliError`] naming the file for unreadable or malformed inputs, a goal that does not fit
+/// the scene (unknown joint, value outside the limits, robot start outside the grid or in an
+/// obstacle), a malformed `--budget`, `--seed` with `--strategy search`, or an `--out` file
+/// that cannot be written.
+pub fn run(args: &Args, out: &mut dyn Write) -> Result<Verdict, CliError> {
+    let budget = parse_duration(&args.budget)
+        .map_err(|e| CliError::new(format!("invalid --budget {:?}: {e}", args.budget)))?;
+    let seed = args.seed.unwrap_or(0);
+    let strategy = match args.strategy {
+        StrategyArg::Search if args.seed.is_some() => {
+            return Err(CliError::new(
+                "--seed applies to --strategy random and paper only",
+            ));
+        }
+        StrategyArg::Search => Strategy::Search,
+        StrategyArg::Random => Strategy::Random { seed },
+        StrategyArg::Paper => Strategy::Paper { seed },
+    };
+    let model = args.input.load()?;
+    let problem = load_problem(&model, &args.goal)?;
+    let settings = TaskSettings {
+        strategy,
+        ..TaskSettings::default()
+    };
+    // The budget starts after loading: it bounds the planner and the diagnosis.
+    let termination = Termination::after(budget);
+    let result = plan(&model, &problem, &settings, &NoRefinement, &termination)
+        .map_err(|e| file_error(&args.goal, e))?;
+    let document = PlanFile::from_result(&result);
+    let reason = document.reason.clone().unwrap_or_default();
+    let verdict = match &result.outcome {
+        Outcome::Solved(_) => Verdict::Success,
+        Outcome::Infeasible(why) => {
+            let mut note = format!("infeasible: {reason}");
+            // The search names no joint when every target is reachable on its own; then
+            // find which targets conflict.
+            if why.unreached.is_empty() && strategy == Strategy::Search {
+                let conflict = conflicting_targets(&model, &problem, &settings, &termination)
+                    .map_err(|e| file_error(&args.goal, e))?;
+                if let Some(names) = conflict {
+                    note.push_str(&format!(
+                        "; conflicting targets: {} (a plan exists when any one of them is \
+                         dropped)",
+                        names.join(", ")
+                    ));
+                }
+            }
+            Verdict::Infeasible { note }
+        }
+        Outcome::Timeout(_) => Verdict::Timeout {
+            note: format!("timeout after {}: {reason}", args.budget.trim()),
+        },
+    };
+    // Written last, so that an error leaves no output behind.
+    let json = document.to_json() + "\n";
+    match &args.out {
+        Some(path) => std::fs::write(path, json)
+            .map_err(|e| CliError::new(format!("cannot write {}: {e}", path.display())))?,
+        None => out
+            .write_all(json.as_bytes())
+            .map_err(|e| CliError::new(format!("cannot write the plan: {e}")))?,
+    }
+    Ok(verdict)
+}
+
+/// A minimal set of goal targets that no plan meets together, for an infeasible `problem`
+/// with at least two targets; `None` with fewer targets or if `termination` stops a plan first.
+///
+/// The deletion filter: for each target in turn, plan without it (and without the targets
+/// dropped so far); if that is still infeasible, drop it. Every kept target `t` was kept
+/// because the remaining targets without `t` had a plan, and that plan also meets any subset
+/// of them: so dropping any one target of the result leaves a goal with a plan, while the
+/// result itself has none (it is the input, or a set the planner found infeasible).
+///
+/// # Errors
+/// As [`plan`] (not expected: the problem already passed it).
+fn conflicting_targets(
+    model: &SceneModel,
+    problem: &Problem,
+    settings: &TaskSettings,
+    termination: &Termination<'_>,
+) -> Result<Option<Vec<String>>, kinscene::task::Error> {
+    let mut kept = problem.goal.targets().to_vec();
+    if kept.len() < 2 {
+        return Ok(None);
+    }
+    let mut k = 0;
+    while k < kept.len() {
+        let mut goal = Goal::empty();
+        for (i, (joint, interval)) in kept.iter().enumerate() {
+            if i != k {
+                goal.set(model, *joint, *interval)?;
+            }
+        }
+        let without = Problem {
+            start: problem.start.clone(),
+            goal,
+            robot: problem.robot,
+        };
+        match plan(model, &without, settings, &NoRefinement, termination)?.outcome {
+            Outcome::Infeasible(_) => {
+                kept.remove(k);
+            }
+            Outcome::Solved(_) => k += 1,
+            Outcome::Timeout(_) => return Ok(None),
+        }
+    }
+    Ok(Some(
+        kept.iter()
+            .map(|(joint, _)| model.joints()[joint.index()].name.clone())
+            .collect(),
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn durations_parse_with_units() {
+        assert_eq!(parse_duration("2s"), Ok(Duration::from_secs(2)));
+        assert_eq!(parse_duration("500ms"), Ok(Duration::from_millis(500)));
+        assert_eq!(parse_duration("1.5s"), Ok(Duration::from_millis(1500)));
+        assert_eq!(parse_duration("1m"), Ok(Duration::from_secs(60)));
+        assert_eq!(parse_duration("0s"), Ok(Duration::ZERO));
+        for bad in [
+            "", "2", "s", "-1s", "2 s", "1.5.2s", "2sec", "1e3s", "inf s", "1e400s",
+        ] {
+            assert!(parse_duration(bad).is_err(), "{bad:?}");
+        }
+    }
+}

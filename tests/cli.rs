@@ -1,0 +1,577 @@
+//! The kinscene command-line tool: `kinscene inspect` on the kitchen scene, and its exit
+//! code and one-line error on bad input.
+
+use std::f64::consts::FRAC_PI_2;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+fn kitchen_path() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/kitchen.urdf")
+}
+
+fn kinscene(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_kinscene"))
+        .args(args)
+        .output()
+        .expect("the kinscene binary runs")
+}
+
+/// Writes `contents` to a file of its own in the test scratch directory.
+fn scratch_file(name: &str, contents: &str) -> PathBuf {
+    let path = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    std::fs::write(&path, contents).unwrap();
+    path
+}
+
+/// Asserts exit code 2, an empty stdout and exactly one `kinscene: error: ` line on stderr;
+/// returns that line.
+fn assert_bad_input(output: &Output) -> String {
+    let stderr = String::from_utf8(output.stderr.clone()).unwrap();
+    assert_eq!(output.status.code(), Some(2), "stderr: {stderr}");
+    assert!(output.stdout.is_empty());
+    let lines: Vec<_> = stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "stderr: {stderr:?}");
+    assert!(stderr.ends_with('\n'));
+    assert!(lines[0].starts_with("kinscene: error: "), "{stderr:?}");
+    lines[0].to_string()
+}
+
+fn inspect_kitchen() -> Value {
+    let path = kitchen_path();
+    let output = kinscene(&["inspect", "--scene", path.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "stderr: {stderr}");
+    assert!(stderr.is_empty(), "{stderr}");
+    serde_json::from_slice(&output.stdout).expect("inspect prints JSON")
+}
+
+fn vec3(v: &Value) -> [f64; 3] {
+    let a = v.as_array().expect("a 3-vector");
+    assert_eq!(a.len(), 3);
+    [0, 1, 2].map(|k| a[k].as_f64().unwrap())
+}
+
+fn assert_close(got: [f64; 3], want: [f64; 3]) {
+    for k in 0..3 {
+        assert!((got[k] - want[k]).abs() < 1e-9, "{got:?} != {want:?}");
+    }
+}
+
+/// The non-fixed joints of a URDF document as (name, parent link), in document order, found
+/// by a plain text scan of `<joint name="..." type="...">` tags and their
+/// `<parent link="..."/>` (independent of the importer).
+fn movable_joints(urdf: &str) -> Vec<(String, String)> {
+    urdf.split("<joint ")
+        .skip(1)
+        .filter_map(|tag| {
+            let attr = |text: &str, key: &str| {
+                let start = text.find(&format!("{key}=\""))? + key.len() + 2;
+                let len = text[start..].find('"')?;
+                Some(text[start..start + len].to_string())
+            };
+            let body = &tag[..tag.find("</joint>")?];
+            let parent = attr(&body[body.find("<parent ")?..], "link")?;
+            (attr(tag, "type")? != "fixed")
+                .then(|| attr(tag, "name").map(|name| (name, parent)))
+                .flatten()
+        })
+        .collect()
+}
+
+#[test]
+fn inspect_prints_the_kitchen_as_json() {
+    let doc = inspect_kitchen();
+    assert_eq!(doc["format"], "kinscene-inspect/1");
+    assert_eq!(doc["name"], "kitchen_base");
+    let joints = doc["joints"].as_array().unwrap();
+    assert_eq!(joints.len(), 11);
+    let mut names: Vec<String> = joints
+        .iter()
+        .map(|j| j["name"].as_str().unwrap().to_string())
+        .collect();
+    let joint_parents = movable_joints(&std::fs::read_to_string(kitchen_path()).unwrap());
+    let mut want: Vec<String> = joint_parents.iter().map(|(n, _)| n.clone()).collect();
+    assert_eq!(want.len(), 11);
+    names.sort();
+    want.sort();
+    assert_eq!(names, want);
+    assert_eq!(doc["zero_state"].as_object().unwrap().len(), 11);
+    for j in joints {
+        let (_, parent) = joint_parents.iter().find(|(n, _)| *n == j["name"]).unwrap();
+        assert_eq!(j["parent"], parent.as_str());
+        let kind = if parent == "kitchen_base" {
+            "base"
+        } else {
+            "part"
+        };
+        assert_eq!(j["parent_kind"], kind, "{}", j["name"]);
+        let unit = if j["type"] == "prismatic" { "m" } else { "rad" };
+        assert_eq!(j["limits"]["unit"], unit);
+    }
+
+    // Door B, from the URDF: joint origin xyz (0.623, 2.25, 0.1), rpy (0, 0, π/2), axis
+    // (0, 0, 1), limits [0, π/2]. Its pivot is the origin (no ancestors) and the world axis is
+    // R_z(π/2) (0, 0, 1) = (0, 0, 1).
+    let b = joints
+        .iter()
+        .find(|j| j["name"] == "corner_door_side_hinge")
+        .unwrap();
+    assert_eq!(b["type"], "revolute");
+    assert_eq!(b["child"], "corner_door_side");
+    assert_close(vec3(&b["pivot"]), [0.623, 2.25, 0.1]);
+    assert_close(vec3(&b["origin"]["xyz"]), [0.623, 2.25, 0.1]);
+    assert_close(vec3(&b["origin"]["rpy"]), [0.0, 0.0, FRAC_PI_2]);
+    assert_close(vec3(&b["axis"]["joint"]), [0.0, 0.0, 1.0]);
+    assert_close(vec3(&b["axis"]["world"]), [0.0, 0.0, 1.0]);
+    // parent_from_joint row 0 is (cos π/2, -sin π/2, 0, x) = (0, -1, 0, 0.623).
+    let row0: Vec<f64> = b["origin"]["parent_from_joint"][0]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    assert_eq!(row0.len(), 4);
+    assert!((row0[0]).abs() < 1e-12 && (row0[1] + 1.0).abs() < 1e-12);
+    assert!((row0[3] - 0.623).abs() < 1e-12);
+    assert_eq!(b["limits"]["lower"], 0.0);
+    assert!((b["limits"]["upper"].as_f64().unwrap() - FRAC_PI_2).abs() < 1e-12);
+    // The dishwasher door turns about the world x axis.
+    let dw = joints
+        .iter()
+        .find(|j| j["name"] == "dishwasher_door_hinge")
+        .unwrap();
+    assert_close(vec3(&dw["axis"]["world"]), [1.0, 0.0, 0.0]);
+
+    // B's handle, by hand: the handle link's origin is (-0.41, -0.0175, 0.64) in the door
+    // frame with rpy (0, 0, -π/2). The door frame is the joint frame at angle 0, i.e.
+    // translation (0.623, 2.25, 0.1) and R_z(π/2), which maps (x, y, z) to (-y, x, z):
+    // (-0.41, -0.0175, 0.64) -> (0.0175, -0.41, 0.64), plus the origin gives
+    // (0.6405, 1.84, 0.74). The normal is the handle frame's +x: R_z(π/2) R_z(-π/2) x = +x
+    // (the door faces +x, out of the left run).
+    let handles = doc["handles"].as_array().unwrap();
+    assert_eq!(handles.len(), 11);
+    let h = handles
+        .iter()
+        .find(|h| h["name"] == "corner_door_side_handle")
+        .unwrap();
+    assert_eq!(h["part"], "corner_door_side");
+    assert_eq!(h["joint"], "corner_door_side_hinge");
+    assert_close(vec3(&h["part_frame"]["position"]), [-0.41, -0.0175, 0.64]);
+    assert_close(vec3(&h["part_frame"]["normal"]), [0.0, -1.0, 0.0]);
+    assert_close(vec3(&h["world"]["position"]), [0.6405, 1.84, 0.74]);
+    assert_close(vec3(&h["world"]["normal"]), [1.0, 0.0, 0.0]);
+
+    let shapes = doc["base_shapes"].as_array().unwrap();
+    let bowl = shapes.iter().find(|s| s["name"] == "sink_bowl").unwrap();
+    assert_eq!(bowl["kind"], "mesh");
+    assert_eq!(bowl["mesh"], "meshes/sink_bowl.obj");
+    let floor = shapes.iter().find(|s| s["name"] == "floor").unwrap();
+    assert_eq!(floor["kind"], "box");
+    assert!(floor.get("mesh").is_none());
+
+    // Navigation grid: default 5 cm cells over the base shapes' extent (x in [-0.1, 3.5],
+    // y in [-1.0, 3.1]) padded by 1 m: 5.6 m × 6.1 m = 112 × 122 cells from (-1.1, -2.0).
+    let grid = &doc["nav_grid"];
+    assert_eq!(grid["resolution"], 0.05);
+    assert_eq!(
+        (grid["width"].as_u64(), grid["height"].as_u64()),
+        (Some(112), Some(122))
+    );
+    let origin = grid["origin"].as_array().unwrap();
+    assert!((origin[0].as_f64().unwrap() + 1.1).abs() < 1e-9);
+    assert!((origin[1].as_f64().unwrap() + 2.0).abs() < 1e-9);
+    assert!(grid["occupied_cells"].as_u64().unwrap() > 0);
+}
+
+#[test]
+fn inspect_accepts_package_paths() {
+    let path = kitchen_path();
+    let dir = path.parent().unwrap();
+    let output = kinscene(&[
+        "inspect",
+        "--scene",
+        path.to_str().unwrap(),
+        "--package",
+        &format!("kitchen={}", dir.display()),
+    ]);
+    assert_eq!(output.status.code(), Some(0));
+    let bad = kinscene(&[
+        "inspect",
+        "--scene",
+        path.to_str().unwrap(),
+        "--package",
+        "no-equals-sign",
+    ]);
+    assert_eq!(bad.status.code(), Some(2));
+}
+
+#[test]
+fn malformed_xml_is_bad_input() {
+    let path = scratch_file(
+        "cli_malformed.urdf",
+        "<robot name=\"broken\">\n  <link name=\"base\">\n</robot>\n",
+    );
+    let line = assert_bad_input(&kinscene(&["inspect", "--scene", path.to_str().unwrap()]));
+    assert!(line.contains("cli_malformed.urdf"), "{line}");
+}
+
+#[test]
+fn missing_file_is_bad_input() {
+    let path = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_no_such_scene.urdf");
+    let line = assert_bad_input(&kinscene(&["inspect", "--scene", path.to_str().unwrap()]));
+    assert!(line.contains("cli_no_such_scene.urdf"), "{line}");
+}
+
+#[test]
+fn planar_joint_is_bad_input() {
+    let path = scratch_file(
+        "cli_planar.urdf",
+        r#"<robot name="planar">
+  <link name="floor"/>
+  <link name="tray"/>
+  <joint name="tray_slide" type="planar">
+    <parent link="floor"/>
+    <child link="tray"/>
+    <axis xyz="0 0 1"/>
+  </joint>
+</robot>
+"#,
+    );
+    let line = assert_bad_input(&kinscene(&["inspect", "--scene", path.to_str().unwrap()]));
+    assert!(
+        line.contains("tray_slide"),
+        "the error names the joint: {line}"
+    );
+}
+
+#[test]
+fn usage_errors_exit_2() {
+    assert_eq!(kinscene(&["inspect"]).status.code(), Some(2));
+    assert_eq!(kinscene(&["no-such-command"]).status.code(), Some(2));
+    assert_eq!(kinscene(&[]).status.code(), Some(2));
+    let help = kinscene(&["inspect", "--help"]);
+    assert_eq!(help.status.code(), Some(0));
+    let text = String::from_utf8(help.stdout).unwrap();
+    assert!(text.contains("JSON schema") && text.contains("parent_from_joint"));
+}
+
+// ----- plan and validate -----
+
+fn goal_path(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("examples/scenes/goals")
+        .join(name)
+}
+
+fn arg(path: &Path) -> &str {
+    path.to_str().unwrap()
+}
+
+/// Runs `kinscene plan` on the kitchen with `goal` and `extra` arguments.
+fn plan_kitchen(goal: &Path, extra: &[&str]) -> Output {
+    let scene = kitchen_path();
+    let mut args = vec!["plan", "--scene", arg(&scene), "--goal", arg(goal)];
+    args.extend_from_slice(extra);
+    kinscene(&args)
+}
+
+/// Runs `kinscene validate` on the kitchen.
+fn validate_kitchen(goal: &Path, plan: &Path) -> Output {
+    let scene = kitchen_path();
+    kinscene(&[
+        "validate",
+        "--scene",
+        arg(&scene),
+        "--goal",
+        arg(goal),
+        "--plan",
+        arg(plan),
+    ])
+}
+
+/// Asserts that stderr is exactly one line starting with `kinscene: <prefix>` (a verdict, not
+/// an error); returns it.
+fn verdict_line(output: &Output, prefix: &str) -> String {
+    let stderr = String::from_utf8(output.stderr.clone()).unwrap();
+    let lines: Vec<_> = stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "stderr: {stderr:?}");
+    assert!(stderr.ends_with('\n'));
+    assert!(
+        lines[0].starts_with(&format!("kinscene: {prefix}")),
+        "{stderr:?}"
+    );
+    assert!(!lines[0].contains("error:"), "{stderr:?}");
+    lines[0].to_string()
+}
+
+/// The dishwasher plan, written to `name` in the scratch directory (one name per test: tests
+/// run in parallel).
+fn dishwasher_plan(name: &str) -> (PathBuf, Value) {
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let output = plan_kitchen(&goal_path("dishwasher.toml"), &["--out", arg(&out)]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "stderr: {stderr}");
+    assert!(stderr.is_empty(), "{stderr}");
+    assert!(output.stdout.is_empty(), "--out leaves stdout empty");
+    let doc: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    (out, doc)
+}
+
+fn step_names(doc: &Value) -> Vec<String> {
+    doc["steps"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["joint"].as_str().unwrap().to_string())
+        .collect()
+}
+
+#[test]
+fn plan_opens_the_dishwasher_door_before_the_rack_and_the_plan_validates() {
+    let (path, doc) = dishwasher_plan("cli_dishwasher_plan.json");
+    assert_eq!(doc["status"], "solved");
+    assert!(doc["reason"].is_null());
+    let names = step_names(&doc);
+    let door = names.iter().position(|n| n == "dishwasher_door_hinge");
+    let rack = names.iter().position(|n| n == "dishwasher_rack_slide");
+    assert!(
+        matches!((door, rack), (Some(d), Some(r)) if d < r),
+        "the door step comes first: {names:?}"
+    );
+    // The goal file's targets: door >= 1.2 rad, rack >= 0.28 m; replaying from the zero
+    // state (every joint at 0) must end inside them, each step starting where the last left
+    // the joint.
+    let mut state = std::collections::BTreeMap::<String, f64>::new();
+    for s in doc["steps"].as_array().unwrap() {
+        let joint = s["joint"].as_str().unwrap().to_string();
+        let from = s["from"].as_f64().unwrap();
+        assert!((from - state.get(&joint).copied().unwrap_or(0.0)).abs() < 1e-12);
+        state.insert(joint, s["to"].as_f64().unwrap());
+        assert_eq!(s["base"].as_array().map(Vec::len), Some(3));
+    }
+    assert!(state["dishwasher_door_hinge"] >= 1.2);
+    assert!(state["dishwasher_rack_slide"] >= 0.28);
+
+    let output = validate_kitchen(&goal_path("dishwasher.toml"), &path);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "stderr: {stderr}");
+    assert!(stderr.is_empty(), "{stderr}");
+    let report: Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(report["format"], "kinscene-validate/1");
+    assert_eq!(report["valid"], true);
+    assert!(report["first_failure"].is_null());
+    assert_eq!(report["unmet"].as_array().map(Vec::len), Some(0));
+    assert_eq!(report["plan_status"], "solved");
+    assert_eq!(report["steps"].as_u64(), Some(names.len() as u64));
+    assert!(report["checked_samples"].as_u64().unwrap() > 0);
+}
+
+#[test]
+fn plan_prints_the_document_on_stdout_without_out() {
+    let output = plan_kitchen(&goal_path("dishwasher.toml"), &[]);
+    assert_eq!(output.status.code(), Some(0));
+    let doc: Value = serde_json::from_slice(&output.stdout).expect("plan prints JSON");
+    assert_eq!(doc["status"], "solved");
+    assert!(doc["stats"]["expanded"].as_u64().unwrap() > 0);
+}
+
+#[test]
+fn validate_rejects_the_dishwasher_plan_with_its_steps_swapped() {
+    let (_, mut doc) = dishwasher_plan("cli_dishwasher_plan_to_swap.json");
+    let steps = doc["steps"].as_array_mut().unwrap();
+    assert_eq!(steps.len(), 2, "{steps:?}");
+    steps.swap(0, 1);
+    let path = scratch_file("cli_dishwasher_swapped.json", &doc.to_string());
+    let output = validate_kitchen(&goal_path("dishwasher.toml"), &path);
+    assert_eq!(output.status.code(), Some(3));
+    let line = verdict_line(&output, "invalid plan: step 0: ");
+    let report: Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(report["valid"], false);
+    assert_eq!(report["first_failure"]["step"], 0);
+    // With the door closed the rack slides up: the top of its handle bar (z = 0.595 + value,
+    // from the URDF: door hinge z 0.1, rack origin 0.47 up the door, bar top 0.025 above the
+    // rack's end face) meets the underside of the tub top (z = 0.845 − 0.025 = 0.82) at
+    // 0.225 m, short of the 0.28 m the step asks for.
+    let reason = report["first_failure"]["reason"].as_str().unwrap();
+    assert!(reason.contains("dishwasher_tub_top"), "{reason}");
+    assert!(line.contains("dishwasher_tub_top"), "{line}");
+    // Replay stops before the first step: both goal joints are still at 0.
+    let mut unmet: Vec<&str> = report["unmet"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_str().unwrap())
+        .collect();
+    unmet.sort();
+    assert_eq!(unmet, ["dishwasher_door_hinge", "dishwasher_rack_slide"]);
+}
+
+#[test]
+fn plan_reports_the_corner_doors_as_infeasible_naming_both() {
+    let output = plan_kitchen(&goal_path("corner.toml"), &[]);
+    assert_eq!(output.status.code(), Some(3));
+    let line = verdict_line(&output, "infeasible: ");
+    assert!(
+        line.contains("corner_door_back_hinge") && line.contains("corner_door_side_hinge"),
+        "{line}"
+    );
+    let doc: Value = serde_json::from_slice(&output.stdout).expect("the document is written");
+    assert_eq!(doc["status"], "infeasible");
+    assert_eq!(doc["steps"].as_array().map(Vec::len), Some(0));
+    assert!(doc["reason"].as_str().is_some_and(|r| !r.is_empty()));
+}
+
+#[test]
+fn validate_checks_the_steps_of_an_infeasible_plan_anyway() {
+    // An infeasible document has no steps: replaying nothing leaves the start state, which
+    // misses both dishwasher targets.
+    let doc = r#"{"status": "infeasible", "steps": [], "reason": "none"}"#;
+    let path = scratch_file("cli_empty_plan.json", doc);
+    let output = validate_kitchen(&goal_path("dishwasher.toml"), &path);
+    assert_eq!(output.status.code(), Some(3));
+    let line = verdict_line(&output, "invalid plan: ");
+    assert!(line.contains("unmet"), "{line}");
+    let report: Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(report["plan_status"], "infeasible");
+    assert!(report["first_failure"].is_null());
+    assert_eq!(report["unmet"].as_array().map(Vec::len), Some(2));
+    assert_eq!(report["checked_samples"], 0);
+}
+
+#[test]
+fn plan_with_a_zero_budget_times_out() {
+    let output = plan_kitchen(&goal_path("dishwasher.toml"), &["--budget", "0s"]);
+    assert_eq!(output.status.code(), Some(4));
+    let line = verdict_line(&output, "timeout after 0s: ");
+    assert!(
+        line.contains("dishwasher"),
+        "names the unmet joints: {line}"
+    );
+    let doc: Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(doc["status"], "timeout");
+}
+
+#[test]
+fn plan_runs_the_baselines_with_consistent_exit_codes() {
+    for strategy in ["random", "paper"] {
+        let output = plan_kitchen(
+            &goal_path("dishwasher.toml"),
+            &["--strategy", strategy, "--seed", "7"],
+        );
+        let doc: Value = serde_json::from_slice(&output.stdout).unwrap();
+        let want = match doc["status"].as_str().unwrap() {
+            "solved" => 0,
+            "infeasible" => 3,
+            "timeout" => 4,
+            other => panic!("status {other}"),
+        };
+        assert_eq!(output.status.code(), Some(want), "{strategy}");
+    }
+    // --seed has no meaning for the search.
+    let output = plan_kitchen(&goal_path("dishwasher.toml"), &["--seed", "7"]);
+    assert!(assert_bad_input(&output).contains("--seed"));
+}
+
+#[test]
+fn bad_goals_are_bad_input() {
+    let malformed = scratch_file(
+        "cli_malformed_goal.toml",
+        "[goal\ndishwasher_door_hinge = 1\n",
+    );
+    let line = assert_bad_input(&plan_kitchen(&malformed, &[]));
+    assert!(line.contains("cli_malformed_goal.toml"), "{line}");
+
+    let unknown = scratch_file(
+        "cli_unknown_joint.toml",
+        "[goal]\nfridge_door_hinge = 1.0\n",
+    );
+    let line = assert_bad_input(&plan_kitchen(&unknown, &[]));
+    assert!(line.contains("fridge_door_hinge"), "{line}");
+
+    // The sink door's limits are [0, 1.92] rad.
+    let outside = scratch_file(
+        "cli_outside_goal.toml",
+        "[goal]\nsink_door_hinge = { min = 2.5 }\n",
+    );
+    let line = assert_bad_input(&plan_kitchen(&outside, &[]));
+    assert!(line.contains("sink_door_hinge"), "{line}");
+
+    let missing = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_no_such_goal.toml");
+    let line = assert_bad_input(&plan_kitchen(&missing, &[]));
+    assert!(line.contains("cli_no_such_goal.toml"), "{line}");
+
+    // The same goal as JSON (chosen by the extension) parses.
+    let json = scratch_file(
+        "cli_goal.json",
+        r#"{"goal": {"island_drawer_left_slide": {"min": 0.2}}, "robot": {"base": [1.0, 0.0, 1.5708]}}"#,
+    );
+    assert_eq!(plan_kitchen(&json, &[]).status.code(), Some(0));
+    let missing_scene = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_no_such_scene.urdf");
+    let goal = goal_path("dishwasher.toml");
+    let line = assert_bad_input(&kinscene(&[
+        "plan",
+        "--scene",
+        arg(&missing_scene),
+        "--goal",
+        arg(&goal),
+    ]));
+    assert!(line.contains("cli_no_such_scene.urdf"), "{line}");
+}
+
+#[test]
+fn bad_budgets_are_bad_input() {
+    for budget in ["2", "abc", "-1s", "1.5.2s", "10 sec"] {
+        let output = plan_kitchen(&goal_path("dishwasher.toml"), &["--budget", budget]);
+        let line = assert_bad_input(&output);
+        assert!(line.contains("--budget"), "{budget}: {line}");
+    }
+}
+
+#[test]
+fn bad_plans_are_bad_input() {
+    let goal = goal_path("dishwasher.toml");
+    let malformed = scratch_file(
+        "cli_malformed_plan.json",
+        r#"{"status": "solved", "steps": ["#,
+    );
+    let line = assert_bad_input(&validate_kitchen(&goal, &malformed));
+    assert!(line.contains("cli_malformed_plan.json"), "{line}");
+
+    let step = |joint: &str, to: f64| {
+        format!(
+            r#"{{"status": "solved", "steps": [{{"joint": "{joint}", "from": 0.0, "to": {to}}}]}}"#
+        )
+    };
+    let unknown = scratch_file("cli_unknown_plan.json", &step("fridge_door_hinge", 1.0));
+    let line = assert_bad_input(&validate_kitchen(&goal, &unknown));
+    assert!(line.contains("fridge_door_hinge"), "{line}");
+
+    // The dishwasher door's limits are [0, π/2] rad.
+    let outside = scratch_file("cli_outside_plan.json", &step("dishwasher_door_hinge", 2.0));
+    let line = assert_bad_input(&validate_kitchen(&goal, &outside));
+    assert!(line.contains("dishwasher_door_hinge"), "{line}");
+
+    let missing = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_no_such_plan.json");
+    let line = assert_bad_input(&validate_kitchen(&goal, &missing));
+    assert!(line.contains("cli_no_such_plan.json"), "{line}");
+}
+
+#[test]
+fn plan_and_validate_help_print_the_schemas() {
+    let help = kinscene(&["plan", "--help"]);
+    assert_eq!(help.status.code(), Some(0));
+    let text = String::from_utf8(help.stdout).unwrap();
+    assert!(
+        text.contains("[goal]") && text.contains("\"conflicts\""),
+        "{text}"
+    );
+    let help = kinscene(&["validate", "--help"]);
+    assert_eq!(help.status.code(), Some(0));
+    let text = String::from_utf8(help.stdout).unwrap();
+    assert!(text.contains("first_failure") && text.contains("checked_samples"));
+    let help = kinscene(&["--help"]);
+    let text = String::from_utf8(help.stdout).unwrap();
+    assert!(text.contains("plan") && text.contains("validate") && text.contains("4 "));
+}
