@@ -10,6 +10,9 @@ pub enum Error {
     /// The scene model: building it, states, queries (always available; pure Rust).
     #[error("scene: {0}")]
     Scene(#[from] crate::scene::Error),
+    /// Task-level sequencing: goals, settings, plan documents.
+    #[error("task: {0}")]
+    Task(#[from] crate::task::Error),
     /// Robot and scene kinematics (Pinocchio).
     #[cfg(feature = "pinocchio")]
     #[error("kinematics: {0}")]

@@ -3,6 +3,7 @@
 
 pub mod error;
 pub mod scene;
+pub mod task;
 pub use error::Error;
 
 #[cfg(feature = "pinocchio")]

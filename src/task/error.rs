@@ -1,0 +1,78 @@
+//! The task layer's error enum.
+//!
+//! `Err` is for bad input only: a goal naming an unknown joint, a target outside the joint's
+//! limits, invalid settings, an unparsable goal or plan file. "No plan exists" and "the budget
+//! ran out" are [`Outcome`](super::Outcome)s, not errors.
+
+/// Errors of the task layer. Every variant names the offending element.
+#[non_exhaustive]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Error {
+    /// The scene layer rejected an input (unknown joint, invalid state, …).
+    #[error(transparent)]
+    Scene(#[from] crate::scene::Error),
+    /// A goal target is malformed: NaN, `min > max`, a tolerance `< 0`, or both an exact value
+    /// and bounds.
+    #[error("goal for joint {joint:?}: {message}")]
+    InvalidTarget {
+        /// The joint.
+        joint: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A goal interval does not meet the joint's limits.
+    #[error("goal for joint {joint:?} is [{min}, {max}], outside its limits [{lower}, {upper}]")]
+    TargetOutsideLimits {
+        /// The joint.
+        joint: String,
+        /// Requested lower end.
+        min: f64,
+        /// Requested upper end.
+        max: f64,
+        /// The joint's lower limit.
+        lower: f64,
+        /// The joint's upper limit.
+        upper: f64,
+    },
+    /// The robot description is invalid (non-finite pose, radius `<= 0`, …).
+    #[error("robot: {message}")]
+    InvalidRobot {
+        /// What is wrong.
+        message: String,
+    },
+    /// The robot's start pose is outside the navigation grid or inside an obstacle.
+    #[error("robot start ({x}, {y}) is {why}")]
+    InvalidRobotStart {
+        /// Start x (m).
+        x: f64,
+        /// Start y (m).
+        y: f64,
+        /// "outside the navigation grid" or "in an occupied cell".
+        why: String,
+    },
+    /// A setting is out of its documented range.
+    #[error("invalid setting {what}: {value}")]
+    InvalidSetting {
+        /// The setting.
+        what: String,
+        /// The rejected value.
+        value: f64,
+    },
+    /// A goal or plan document could not be parsed.
+    #[error("cannot parse {what}: {message}")]
+    Parse {
+        /// Which document ("goal TOML", "plan JSON", …).
+        what: String,
+        /// The parser's message, with line and column where it gives them.
+        message: String,
+    },
+    /// A plan refers to a step that does not fit the model (unknown joint, value outside the
+    /// limits, `from` not equal to the current value).
+    #[error("plan step {step}: {message}")]
+    InvalidStep {
+        /// Zero-based step index.
+        step: usize,
+        /// What is wrong.
+        message: String,
+    },
+}

@@ -1,0 +1,267 @@
+//! The task layer: which joints to change, in which order (the paper's Π = [θ1 … θT]).
+//!
+//! Given a [`SceneModel`], a start state Θ0, a [`Goal`] (per-joint target intervals) and a
+//! [`Robot`], [`plan`] returns an [`Outcome`]: `Solved(plan)`, `Infeasible(reason)` or
+//! `Timeout(best partial plan)`. `Err` is reserved for bad input.
+//!
+//! # The lattice
+//! The search moves on a finite [`Lattice`]: each joint takes values from a small set (start,
+//! limits, closed value, goal value, evenly spaced interior values — see [`Lattice`]). An
+//! **action** moves one joint to another value of its set, all other joints fixed. Actions
+//! on joints outside the goal are allowed: closing an initially open door that blocks the
+//! path, opening a door part-way, re-opening at the end.
+//!
+//! # Feasibility of an action
+//! See the predicate in `check.rs`, summarised: (1) the moving part and its descendants sweep
+//! without touching any other part or the base, **certified over the whole continuous
+//! motion** by [`check_joint_motion`](crate::scene::collision::check_joint_motion) (samples
+//! spaced by the scene's motion bound, exact parry distances, adaptive refinement — not the
+//! paper's boxes at 6 samples, which miss thin obstacles); (2) some base position in the
+//! [manipulation region](ManipulationSettings) of one of the part's handles is free, outside
+//! the part's swept footprint, reachable from the robot through the free space of the current
+//! state (open doors and drawers occupy cells; the robot disc is inflated by its radius), and
+//! still connected to the robot's start afterwards; (3) the [`Refiner`] accepts it.
+//!
+//! # The search and its cost
+//! A* over lattice states with lazy edge evaluation: a move is checked only when it is the
+//! best open entry, then re-queued with its true cost; each state is closed once (closed set
+//! on the joint values). The cost of a plan is `Σ action + actuation·(handle arc length) +
+//! travel·(base path length)` ([`CostWeights`], metres). The heuristic — for each unmet goal
+//! joint, one action plus its handle's minimum travel to the target — is admissible and
+//! consistent. The robot's position is part of a search node (it sets the travel cost) but
+//! not of the closed set: feasibility does not depend on it (the robot is always in the
+//! start's free component), so closing a state on first arrival keeps the search complete,
+//! while the cost is minimal only with respect to the base poses of that first arrival, and
+//! only among plans that move the joints active when the plan is found (see below): with
+//! `travel = 0`, no cheaper plan moves only those joints, but a cheaper plan may move a joint
+//! the search never had to activate (closing a second door instead of the goal door).
+//!
+//! The robot's start cell anchors reachability: a move is feasible only if its base pose is
+//! connected to the start cell both before and after the move. A move whose part comes to
+//! cover the start cell is therefore `Trapped` (the robot could not get back to where it
+//! started); give a start pose clear of the parts' sweeps.
+//!
+//! **Active joints.** The search starts with the goal joints (and their ancestors) movable.
+//! Every failed check names the joints whose values it depends on (the bodies in a collision
+//! and their ancestors; for a blocked path, the parts whose footprints make the difference).
+//! When the restricted lattice is exhausted, the named joints outside the set join it and
+//! the search runs again (checks are memoised across rounds). It reports `Infeasible` only
+//! when a round names no new joint: then no plan exists in the full lattice, because any
+//! plan, with its steps on inactive joints dropped, would pass every check the round made.
+//!
+//! **Memo and parallelism.** Sweep verdicts are memoised by (joint, from, to, the values of
+//! the joints that can influence that sweep — found with conservative reach spheres); the
+//! sweeps of the next few open moves are checked in parallel (rayon) before they are needed.
+//!
+//! # Baselines
+//! [`Strategy`] selects the paper's *Random* and *Paper* planners for comparison through the
+//! same API.
+
+mod baseline;
+mod check;
+mod error;
+mod goal;
+mod grid;
+mod lattice;
+mod plan;
+mod reach;
+mod refine;
+mod search;
+mod settings;
+mod validate;
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+pub use error::Error;
+pub use goal::{
+    DEFAULT_ROBOT_RADIUS, DEFAULT_TOLERANCE, Goal, GoalSpec, Interval, Problem, Robot, RobotSpec,
+    TargetSpec, TargetTable,
+};
+pub use lattice::Lattice;
+pub use plan::{
+    BodyName, Cause, Failure, Infeasibility, Outcome, Partial, Plan, PlanFile, PlanResult,
+    PlanStatus, SearchStats, Step,
+};
+pub use refine::{MoveContext, NoRefinement, Refinement, Refiner};
+pub use settings::{CostWeights, LatticeSettings, ManipulationSettings, Strategy, TaskSettings};
+pub use validate::{MAX_SWEEP_SAMPLES, Validation, validate};
+
+use crate::scene::{JointId, SceneData, SceneModel};
+
+/// When to stop: a deadline, a cancel flag, both or neither.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Termination<'a> {
+    deadline: Option<Instant>,
+    cancel: Option<&'a AtomicBool>,
+}
+
+impl<'a> Termination<'a> {
+    /// Never stops early.
+    pub fn none() -> Self {
+        Termination::default()
+    }
+
+    /// Stops `budget` from now.
+    pub fn after(budget: Duration) -> Self {
+        Termination {
+            deadline: Instant::now().checked_add(budget),
+            cancel: None,
+        }
+    }
+
+    /// Also stops when `flag` becomes true.
+    pub fn with_cancel(self, flag: &'a AtomicBool) -> Self {
+        Termination {
+            cancel: Some(flag),
+            ..self
+        }
+    }
+
+    /// Whether the deadline has passed or the flag is set.
+    pub fn should_stop(&self) -> bool {
+        self.cancel.is_some_and(|f| f.load(Ordering::Relaxed))
+            || self.deadline.is_some_and(|d| Instant::now() >= d)
+    }
+}
+
+/// Plans the order of single-joint changes that takes `problem.start` to `problem.goal`.
+///
+/// # Errors
+/// Only for bad input: [`Error::InvalidSetting`], a robot start outside the grid or inside an
+/// obstacle ([`Error::InvalidRobotStart`]), a start state that does not fit the model.
+/// Infeasible goals and exhausted budgets are [`Outcome`]s.
+///
+/// # Example
+/// ```
+/// use kinscene::scene::{Handle, Joint, Limits, PartSpec, SceneModelBuilder, Shape};
+/// use kinscene::task::{plan, GoalSpec, NoRefinement, Outcome, Problem, TaskSettings, Termination};
+/// use nalgebra::{Isometry3, Point3, Vector3};
+///
+/// // A door hinged at the origin about z, 0.5 m wide, handle near its free edge.
+/// let mut b = SceneModelBuilder::new();
+/// b.add_part(
+///     PartSpec::on_base("door", Joint::revolute("hinge", Point3::origin(), Vector3::z(), Limits::new(0.0, 1.6)))
+///         .with_collider(Shape::box_size(Vector3::new(0.5, 0.02, 0.7)), Isometry3::translation(0.25, 0.0, 0.35))
+///         .with_handle(Handle::new("door_handle", Point3::new(0.45, -0.03, 0.35), -Vector3::y())),
+/// );
+/// let model = b.build()?;
+/// let spec = GoalSpec::from_toml("[goal]\nhinge = { min = 1.2 }\n[robot]\nbase = [0.8, -0.8, 0.0]")?;
+/// let problem = Problem::from_spec(&model, &spec)?;
+/// let result = plan(&model, &problem, &TaskSettings::default(), &NoRefinement, &Termination::none())?;
+/// let Outcome::Solved(p) = result.outcome else { panic!("expected a plan") };
+/// assert_eq!(p.steps.len(), 1);
+/// assert!(p.steps[0].to >= 1.2);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn plan(
+    model: &SceneModel,
+    problem: &Problem,
+    settings: &TaskSettings,
+    refiner: &dyn Refiner,
+    termination: &Termination<'_>,
+) -> Result<PlanResult, Error> {
+    settings.validate()?;
+    problem.start.validate(model)?;
+    match settings.strategy {
+        Strategy::Search => search::run(model, problem, settings, refiner, termination),
+        Strategy::Random { seed } => baseline::random(model, problem, settings, termination, seed),
+        Strategy::Paper { seed } => baseline::paper(model, problem, settings, termination, seed),
+    }
+}
+
+/// The feasibility predicate of the search, exposed for brute-force comparisons and tools:
+/// whether one move passes checks 1–3 in a lattice state (no memo).
+pub struct Feasibility<'a> {
+    checker: check::Checker<'a>,
+    caches: check::Caches,
+    data: SceneData,
+}
+
+/// The verdict of [`Feasibility::check`].
+#[derive(Debug, Clone, PartialEq)]
+pub enum MoveCheck {
+    /// The move is feasible from base pose `base` (x, y, yaw) grasping `handle`.
+    Feasible {
+        /// Base pose x (m), y (m), yaw (rad).
+        base: [f64; 3],
+        /// The handle's name.
+        handle: String,
+    },
+    /// The move is infeasible.
+    Infeasible(Cause),
+}
+
+impl<'a> Feasibility<'a> {
+    /// The predicate for `problem` on `model` with `lattice` (build it with
+    /// [`Lattice::new`] from the same problem and `settings.lattice`).
+    ///
+    /// # Errors
+    /// As [`plan`].
+    pub fn new(
+        model: &'a SceneModel,
+        problem: &Problem,
+        settings: &'a TaskSettings,
+        lattice: &'a Lattice,
+    ) -> Result<Self, Error> {
+        settings.validate()?;
+        problem.start.validate(model)?;
+        Ok(Feasibility {
+            checker: check::Checker::new(model, problem, settings, lattice)?,
+            caches: check::Caches::default(),
+            data: SceneData::new(model),
+        })
+    }
+
+    /// Whether moving `joint` to its lattice value number `to` is feasible in the lattice
+    /// state `values` (one index per joint into [`Lattice::values`]), the robot anywhere in
+    /// the start's free component. Uses [`NoRefinement`].
+    ///
+    /// # Errors
+    /// [`Error::InvalidStep`] for indices out of range.
+    pub fn check(
+        &mut self,
+        values: &[usize],
+        joint: JointId,
+        to: usize,
+    ) -> Result<MoveCheck, Error> {
+        let lattice = self.checker.lattice;
+        let bad = |message: String| Error::InvalidStep { step: 0, message };
+        if values.len() != lattice.len() || joint.index() >= lattice.len() {
+            return Err(bad(format!("expected {} joint indices", lattice.len())));
+        }
+        let mut key = Vec::with_capacity(values.len());
+        for (k, &v) in values.iter().enumerate() {
+            if v >= lattice.values(JointId(k)).len() {
+                return Err(bad(format!("value index {v} out of range for joint {k}")));
+            }
+            key.push(v as u16);
+        }
+        if to >= lattice.values(joint).len() {
+            return Err(bad(format!("target index {to} out of range")));
+        }
+        // Memo-free: every call starts from empty caches.
+        self.caches = check::Caches::default();
+        let verdict = self.checker.evaluate(
+            &mut self.caches,
+            &mut self.data,
+            &key,
+            self.checker.start_cell,
+            joint,
+            to as u16,
+            &NoRefinement,
+        )?;
+        Ok(match verdict {
+            check::Verdict::Feasible(c) => MoveCheck::Feasible {
+                base: c.base,
+                handle: self
+                    .checker
+                    .model
+                    .handle(c.handle)
+                    .map(|h| h.name.clone())
+                    .unwrap_or_default(),
+            },
+            check::Verdict::Infeasible { cause, .. } => MoveCheck::Infeasible(cause),
+        })
+    }
+}

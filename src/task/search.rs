@@ -1,0 +1,619 @@
+//! The complete lattice search: lazy A* over lattice states with a closed set, grown over an
+//! active joint set.
+
+use std::cmp::Ordering;
+use std::collections::{BinaryHeap, HashMap, HashSet};
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use super::check::{Blockers, Caches, Checker, Key, SweepVerdict, Verdict};
+use super::goal::Problem;
+use super::lattice::Lattice;
+use super::plan::{
+    Cause, Failure, Infeasibility, Outcome, Partial, Plan, PlanResult, SearchStats, Step,
+};
+use super::refine::Refiner;
+use super::settings::TaskSettings;
+use super::{Error, Termination};
+use crate::scene::collision::collisions;
+use crate::scene::{JointId, JointKind, SceneData, SceneModel, forward_kinematics};
+
+/// Expansions between checks of the deferred failures' blockers (see the round loop).
+const GROW_CHECK: usize = 32;
+
+/// A closed (expanded) state.
+struct Node {
+    key: Key,
+    robot: usize,
+    g: f64,
+    parent: Option<(usize, Step)>,
+}
+
+/// What a heap item carries.
+enum Item {
+    /// A move out of closed node `from`, not yet checked.
+    Edge {
+        from: usize,
+        joint: JointId,
+        to: u16,
+    },
+    /// A checked move's target state, to be closed.
+    Node(Box<Node>),
+}
+
+struct Entry {
+    f: f64,
+    g: f64,
+    seq: u64,
+    item: Item,
+}
+
+impl PartialEq for Entry {
+    fn eq(&self, o: &Self) -> bool {
+        self.cmp(o) == Ordering::Equal
+    }
+}
+impl Eq for Entry {}
+impl PartialOrd for Entry {
+    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl Ord for Entry {
+    /// Max-heap order: lowest f first, then highest g (deeper), then oldest.
+    fn cmp(&self, o: &Self) -> Ordering {
+        o.f.total_cmp(&self.f)
+            .then(self.g.total_cmp(&o.g))
+            .then(o.seq.cmp(&self.seq))
+    }
+}
+
+/// A recorded failure with the state it happened in.
+struct Recorded {
+    key: Key,
+    joint: JointId,
+    to: u16,
+    cause: Cause,
+}
+
+pub(crate) fn run(
+    model: &SceneModel,
+    problem: &Problem,
+    settings: &TaskSettings,
+    refiner: &dyn Refiner,
+    termination: &Termination<'_>,
+) -> Result<PlanResult, Error> {
+    let started = Instant::now();
+    let lattice = Lattice::new(model, problem, &settings.lattice);
+    let checker = Checker::new(model, problem, settings, &lattice)?;
+    let start_key: Key = (0..model.nq())
+        .map(|k| {
+            lattice
+                .index_of(JointId(k), problem.start.as_slice()[k])
+                .expect("the start value is in the lattice") as u16
+        })
+        .collect();
+    let radii = handle_radii(model);
+    let w = settings.heuristic_weight;
+    let h = |key: &[u16]| w * heuristic(&lattice, problem, settings, &radii, key);
+    let mut stats = SearchStats::default();
+    let mut caches = Caches::default();
+    let mut data = SceneData::new(model);
+    let mut active = vec![false; model.nq()];
+    for (j, _) in problem.goal.targets() {
+        close_over_ancestors(model, *j, &mut active);
+    }
+    let threads = match settings.parallelism {
+        0 => rayon::current_num_threads(),
+        n => n,
+    }
+    .max(1);
+    // The closed state nearest the goal so far: (unmet targets, heuristic, steps to it).
+    let mut best_partial: Option<Best> = None;
+    loop {
+        stats.rounds += 1;
+        stats.active_joints = active.iter().filter(|a| **a).count();
+        let mut nodes: Vec<Node> = Vec::new();
+        let mut closed: HashSet<Key> = HashSet::new();
+        let mut heap = BinaryHeap::new();
+        let mut seq = 0u64;
+        let mut failures: Vec<Recorded> = Vec::new();
+        let mut new_blockers = vec![false; model.nq()];
+        let mut unknown_blockers = false;
+        // Failures whose blockers are computed only if this round is exhausted.
+        let mut deferred: Vec<usize> = Vec::new();
+        heap.push(Entry {
+            f: h(&start_key),
+            g: 0.0,
+            seq,
+            item: Item::Node(Box::new(Node {
+                key: start_key.clone(),
+                robot: checker.start_cell,
+                g: 0.0,
+                parent: None,
+            })),
+        });
+        // Deferred failures whose blockers have been computed, and expansions this round.
+        let mut processed = 0;
+        let mut round_expanded = 0usize;
+        while let Some(entry) = heap.pop() {
+            // Grow early: every GROW_CHECK expansions, compute the blockers of the failures
+            // deferred so far; if any names a joint outside the active set, the round cannot
+            // end Infeasible, so start the next one now instead of exhausting this one.
+            if matches!(entry.item, Item::Node(_)) {
+                round_expanded += 1;
+                if round_expanded % GROW_CHECK == 0 {
+                    for &k in &deferred[processed..] {
+                        let f = &failures[k];
+                        for j in checker
+                            .path_failure_blockers(&mut data, &f.key, f.joint, f.to, &active)?
+                        {
+                            if !active[j.index()] {
+                                new_blockers[j.index()] = true;
+                            }
+                        }
+                    }
+                    processed = deferred.len();
+                    let all_active = active.iter().all(|a| *a);
+                    if new_blockers.iter().any(|b| *b) || (unknown_blockers && !all_active) {
+                        break;
+                    }
+                }
+            }
+            if termination.should_stop() {
+                stats.elapsed = started.elapsed();
+                stats.vetoes = caches.vetoes;
+                let partial = partial_plan(model, problem, best_partial);
+                return Ok(PlanResult {
+                    outcome: Outcome::Timeout(partial),
+                    stats,
+                });
+            }
+            match entry.item {
+                Item::Node(node) => {
+                    if !closed.insert(node.key.clone()) {
+                        continue;
+                    }
+                    stats.expanded += 1;
+                    let idx = nodes.len();
+                    let g = node.g;
+                    let key = node.key.clone();
+                    nodes.push(*node);
+                    let state = checker.state_of(&key);
+                    let unmet = problem
+                        .goal
+                        .targets()
+                        .iter()
+                        .filter(|(j, i)| !i.contains(state.q[j.index()]))
+                        .count();
+                    let hk = h(&key);
+                    if best_partial
+                        .as_ref()
+                        .is_none_or(|(u, bh, _)| (unmet, hk) < (*u, *bh))
+                    {
+                        best_partial = Some((unmet, hk, path_to(&nodes, idx)));
+                    }
+                    if unmet == 0 {
+                        stats.elapsed = started.elapsed();
+                        stats.vetoes = caches.vetoes;
+                        let steps = path_to(&nodes, idx);
+                        return Ok(PlanResult {
+                            outcome: Outcome::Solved(Plan { steps, cost: g }),
+                            stats,
+                        });
+                    }
+                    for (j, is_active) in active.iter().enumerate() {
+                        if !is_active {
+                            continue;
+                        }
+                        let joint = JointId(j);
+                        for to in 0..lattice.values(joint).len() as u16 {
+                            if to == key[j] {
+                                continue;
+                            }
+                            let mut next = key.clone();
+                            next[j] = to;
+                            if closed.contains(&next) {
+                                continue;
+                            }
+                            let lb =
+                                move_lower_bound(&lattice, settings, &radii, joint, key[j], to);
+                            seq += 1;
+                            heap.push(Entry {
+                                f: g + lb + h(&next),
+                                g: g + lb,
+                                seq,
+                                item: Item::Edge {
+                                    from: idx,
+                                    joint,
+                                    to,
+                                },
+                            });
+                        }
+                    }
+                }
+                Item::Edge { from, joint, to } => {
+                    let mut next = nodes[from].key.clone();
+                    next[joint.index()] = to;
+                    if closed.contains(&next) {
+                        continue;
+                    }
+                    // Check the sweeps of this and the next few pending moves in parallel.
+                    let mut batch = vec![(nodes[from].key.clone(), joint, to)];
+                    let mut held = Vec::new();
+                    while batch.len() < threads {
+                        match heap.pop() {
+                            Some(e) => {
+                                if let Item::Edge { from, joint, to } = &e.item {
+                                    batch.push((nodes[*from].key.clone(), *joint, *to));
+                                }
+                                held.push(e);
+                            }
+                            None => break,
+                        }
+                    }
+                    heap.extend(held);
+                    prefetch_sweeps(model, &checker, &mut caches, &mut stats, &batch)?;
+                    stats.evaluated += 1;
+                    let key = nodes[from].key.clone();
+                    let verdict = checker.evaluate(
+                        &mut caches,
+                        &mut data,
+                        &key,
+                        nodes[from].robot,
+                        joint,
+                        to,
+                        refiner,
+                    )?;
+                    let (a, b) = (
+                        lattice.values(joint)[key[joint.index()] as usize],
+                        lattice.values(joint)[to as usize],
+                    );
+                    match verdict {
+                        Verdict::Feasible(choice) => {
+                            let c = &settings.cost;
+                            let cost = c.action
+                                + c.actuation * choice.actuation
+                                + c.travel * choice.travel;
+                            let g = nodes[from].g + cost;
+                            let step = Step {
+                                joint: model.joints()[joint.index()].name.clone(),
+                                from: a,
+                                to: b,
+                                handle: Some(
+                                    model
+                                        .handle(choice.handle)
+                                        .map(|h| h.name.clone())
+                                        .unwrap_or_default(),
+                                ),
+                                base: Some(choice.base),
+                                travel: choice.travel,
+                                cost,
+                            };
+                            seq += 1;
+                            heap.push(Entry {
+                                f: g + h(&next),
+                                g,
+                                seq,
+                                item: Item::Node(Box::new(Node {
+                                    key: next,
+                                    robot: choice.cell,
+                                    g,
+                                    parent: Some((from, step)),
+                                })),
+                            });
+                        }
+                        Verdict::Infeasible { cause, blockers } => {
+                            match blockers {
+                                Blockers::Unknown => unknown_blockers = true,
+                                Blockers::Deferred => deferred.push(failures.len()),
+                                Blockers::Known(js) => {
+                                    for j in js {
+                                        if !active[j.index()] {
+                                            new_blockers[j.index()] = true;
+                                        }
+                                    }
+                                }
+                            }
+                            failures.push(Recorded {
+                                key,
+                                joint,
+                                to,
+                                cause,
+                            });
+                        }
+                    }
+                }
+            }
+        }
+        // Exhausted the lattice restricted to the active joints (or leaving early to grow).
+        for &k in &deferred[processed..] {
+            let f = &failures[k];
+            for j in checker.path_failure_blockers(&mut data, &f.key, f.joint, f.to, &active)? {
+                if !active[j.index()] {
+                    new_blockers[j.index()] = true;
+                }
+            }
+            if termination.should_stop() {
+                stats.elapsed = started.elapsed();
+                stats.vetoes = caches.vetoes;
+                return Ok(PlanResult {
+                    outcome: Outcome::Timeout(partial_plan(model, problem, best_partial)),
+                    stats,
+                });
+            }
+        }
+        let all_active = active.iter().all(|a| *a);
+        let grow = if unknown_blockers && !all_active {
+            active.iter_mut().for_each(|a| *a = true);
+            true
+        } else {
+            let mut grew = false;
+            for (j, b) in new_blockers.iter().enumerate() {
+                if *b && !active[j] {
+                    close_over_ancestors(model, JointId(j), &mut active);
+                    grew = true;
+                }
+            }
+            grew
+        };
+        if !grow {
+            stats.elapsed = started.elapsed();
+            stats.vetoes = caches.vetoes;
+            let why = infeasibility(model, problem, &checker, &mut data, &nodes, &failures)?;
+            return Ok(PlanResult {
+                outcome: Outcome::Infeasible(why),
+                stats,
+            });
+        }
+    }
+}
+
+/// Runs the sweeps of `batch` that the memo lacks, in parallel.
+fn prefetch_sweeps(
+    model: &SceneModel,
+    checker: &Checker<'_>,
+    caches: &mut Caches,
+    stats: &mut SearchStats,
+    batch: &[(Key, JointId, u16)],
+) -> Result<(), Error> {
+    let mut todo = Vec::new();
+    let mut seen = HashSet::new();
+    for (key, joint, to) in batch {
+        if model.parts()[joint.index()].handles().is_empty() {
+            continue;
+        }
+        let sk = checker.sweep_key(key, *joint, *to);
+        if caches.sweeps.contains_key(&sk) {
+            stats.memo_hits += 1;
+        } else if seen.insert(sk.clone()) {
+            todo.push((sk, key, *joint, *to));
+        }
+    }
+    stats.sweeps += todo.len();
+    let results: Vec<Result<SweepVerdict, Error>> = if todo.len() > 1 {
+        todo.par_iter()
+            .map_init(
+                || SceneData::new(model),
+                |data, (_, key, joint, to)| checker.sweep(data, key, *joint, *to),
+            )
+            .collect()
+    } else {
+        let mut data = SceneData::new(model);
+        todo.iter()
+            .map(|(_, key, joint, to)| checker.sweep(&mut data, key, *joint, *to))
+            .collect()
+    };
+    for ((sk, ..), r) in todo.into_iter().zip(results) {
+        caches.sweeps.insert(sk, r?);
+    }
+    Ok(())
+}
+
+fn close_over_ancestors(model: &SceneModel, joint: JointId, active: &mut [bool]) {
+    let mut id = joint.part();
+    active[id.index()] = true;
+    while let crate::scene::Parent::Part(p) = model.parts()[id.index()].parent() {
+        active[p.index()] = true;
+        id = p;
+    }
+}
+
+/// Per joint: a lower bound on the handle travel per unit of joint motion (the smallest
+/// handle distance from the axis for revolute joints, 1 for prismatic; 0 without handles).
+fn handle_radii(model: &SceneModel) -> Vec<f64> {
+    model
+        .joints()
+        .iter()
+        .zip(model.parts())
+        .map(|(j, p)| match j.kind {
+            _ if p.handles().is_empty() => 0.0,
+            JointKind::Prismatic => 1.0,
+            JointKind::Revolute => p
+                .handles()
+                .iter()
+                .map(|h| {
+                    let v = h.position.coords;
+                    (v - j.axis * j.axis.dot(&v)).norm()
+                })
+                .fold(f64::INFINITY, f64::min),
+        })
+        .collect()
+}
+
+fn move_lower_bound(
+    lattice: &Lattice,
+    settings: &TaskSettings,
+    radii: &[f64],
+    joint: JointId,
+    from: u16,
+    to: u16,
+) -> f64 {
+    let v = lattice.values(joint);
+    settings.cost.action
+        + settings.cost.actuation * radii[joint.index()] * (v[to as usize] - v[from as usize]).abs()
+}
+
+/// Admissible, consistent heuristic: each unmet goal joint needs at least one action and its
+/// handle must travel at least `r·distance to the target interval`.
+fn heuristic(
+    lattice: &Lattice,
+    problem: &Problem,
+    settings: &TaskSettings,
+    radii: &[f64],
+    key: &[u16],
+) -> f64 {
+    problem
+        .goal
+        .targets()
+        .iter()
+        .map(|(j, i)| {
+            let v = lattice.values(*j)[key[j.index()] as usize];
+            if i.contains(v) {
+                0.0
+            } else {
+                settings.cost.action + settings.cost.actuation * radii[j.index()] * i.distance(v)
+            }
+        })
+        .sum()
+}
+
+/// The closed state nearest the goal: (unmet targets, heuristic, steps to it).
+type Best = (usize, f64, Vec<Step>);
+
+/// The steps from the start to node `idx`.
+fn path_to(nodes: &[Node], idx: usize) -> Vec<Step> {
+    let mut steps = Vec::new();
+    let mut at = idx;
+    while let Some((parent, step)) = &nodes[at].parent {
+        steps.push(step.clone());
+        at = *parent;
+    }
+    steps.reverse();
+    steps
+}
+
+fn partial_plan(model: &SceneModel, problem: &Problem, best: Option<Best>) -> Partial {
+    let steps = best.map(|(_, _, s)| s).unwrap_or_default();
+    let mut state = problem.start.clone();
+    for s in &steps {
+        if let Ok(j) = model.joint_id(&s.joint) {
+            state.q[j.index()] = s.to;
+        }
+    }
+    Partial {
+        plan: Plan {
+            cost: steps.iter().map(|s| s.cost).sum(),
+            steps,
+        },
+        unmet: problem
+            .goal
+            .targets()
+            .iter()
+            .filter(|(j, i)| !i.contains(state.q[j.index()]))
+            .map(|(j, _)| model.joints()[j.index()].name.clone())
+            .collect(),
+    }
+}
+
+/// Builds the report of an exhausted search.
+fn infeasibility(
+    model: &SceneModel,
+    problem: &Problem,
+    checker: &Checker<'_>,
+    data: &mut SceneData,
+    nodes: &[Node],
+    failures: &[Recorded],
+) -> Result<Infeasibility, Error> {
+    let lattice = checker.lattice;
+    let targets = problem.goal.targets();
+    let mut reached = vec![false; targets.len()];
+    for n in nodes {
+        let s = checker.state_of(&n.key);
+        for (k, (j, i)) in targets.iter().enumerate() {
+            reached[k] |= i.contains(s.q[j.index()]);
+        }
+    }
+    let unreached: Vec<JointId> = targets
+        .iter()
+        .zip(&reached)
+        .filter(|(_, r)| !**r)
+        .map(|((j, _), _)| *j)
+        .collect();
+    // Failed moves of unreached goal joints into their targets, grouped by cause.
+    let mut groups: HashMap<(usize, String), (usize, &Recorded)> = HashMap::new();
+    for f in failures {
+        let Some(i) = problem.goal.target(f.joint) else {
+            continue;
+        };
+        // Each target reachable alone but not all together: report the failed moves of every
+        // goal joint into its target (e.g. two doors that collide when both open).
+        let relevant = unreached.is_empty() || unreached.contains(&f.joint);
+        if !relevant || !i.contains(lattice.values(f.joint)[f.to as usize]) {
+            continue;
+        }
+        let sig = match &f.cause {
+            Cause::Collision { other, .. } | Cause::Inconclusive { other, .. } => {
+                format!("collision {other}")
+            }
+            c => format!("{c:?}")
+                .split([' ', '{'])
+                .next()
+                .unwrap_or("")
+                .to_string(),
+        };
+        groups
+            .entry((f.joint.index(), sig))
+            .and_modify(|(n, _)| *n += 1)
+            .or_insert((1, f));
+    }
+    let mut grouped: Vec<(usize, &Recorded)> = groups.into_values().collect();
+    grouped.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.joint.cmp(&b.1.joint)));
+    let mut conflicts = Vec::new();
+    for (_, f) in grouped.into_iter().take(32) {
+        let mut cause = f.cause.clone();
+        if let Cause::PathBlocked { blockers } = &mut cause {
+            *blockers = checker.path_blockers(data, &f.key, f.joint, f.to)?;
+        }
+        conflicts.push(Failure {
+            joint: model.joints()[f.joint.index()].name.clone(),
+            from: lattice.values(f.joint)[f.key[f.joint.index()] as usize],
+            to: lattice.values(f.joint)[f.to as usize],
+            cause,
+        });
+    }
+    forward_kinematics(model, data, &problem.start)?;
+    let start_collisions = collisions(model, data, &checker.settings.sweep.collision)?
+        .into_iter()
+        .map(|c| (checker.body_name(c.a), checker.body_name(c.b)))
+        .collect();
+    let names: Vec<String> = unreached
+        .iter()
+        .map(|j| model.joints()[j.index()].name.clone())
+        .collect();
+    let message = if names.is_empty() {
+        match conflicts.first() {
+            Some(first) => {
+                format!("no plan in the lattice reaches all targets together; e.g. {first}")
+            }
+            None => "no plan in the lattice reaches all targets together".to_string(),
+        }
+    } else if let Some(first) = conflicts.first() {
+        format!(
+            "no plan in the lattice: cannot reach the target of {}; e.g. {first}",
+            names.join(", ")
+        )
+    } else {
+        format!(
+            "no plan in the lattice: cannot reach the target of {}",
+            names.join(", ")
+        )
+    };
+    Ok(Infeasibility {
+        message,
+        unreached: names,
+        conflicts,
+        start_collisions,
+    })
+}

@@ -1,0 +1,216 @@
+//! Settings of the task planner: strategy, lattice, cost, feasibility checks, budget.
+
+use serde::{Deserialize, Serialize};
+
+use super::Error;
+use crate::scene::collision::SweepSettings;
+
+/// Which planner [`plan`](super::plan) runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Strategy {
+    /// The complete lattice search of this crate (lazy A* with an active joint set).
+    #[default]
+    Search,
+    /// The paper's *Random* baseline: one uniformly random order of the goal joints whose
+    /// start value misses the target, each moved once from its start value to the nearest
+    /// point of its target, accepted iff every step passes the search's feasibility predicate
+    /// (certified sweep, base pose and path); otherwise `Infeasible` with the failing step.
+    /// `stats.samples` is 1. Moves no other joint and does not consult the refiner.
+    Random {
+        /// Seed of the order's random generator (SplitMix64); equal seeds give equal orders.
+        seed: u64,
+    },
+    /// The paper's planner ("Scene-Level Planning"): the same moves as [`Strategy::Random`],
+    /// in orders drawn at random without repetition, up to [`TaskSettings::max_samples`]
+    /// orders. For each goal joint the axis-aligned boxes of its part and descendants are
+    /// computed once, at 6 values from its start value towards its target by up to 90°
+    /// (revolute) or 15 cm (prismatic), clamped to the limits. An order is rejected if at
+    /// some step a box of the moving part overlaps the box of another goal part in its
+    /// current configuration (at its target once moved, else at its start) or of a base
+    /// shape (pairs in one kinematic chain and allowed pairs exempt), or if the robot's
+    /// path is blocked (the search's base-pose and path rule, without its sweep check).
+    /// First accepted order: `Solved`; limit or termination first: `Timeout` with the
+    /// longest accepted prefix; every order rejected: `Infeasible`. `stats.samples` counts
+    /// the orders tried. By design it misses collisions between its samples and beyond
+    /// 90° / 15 cm, and ignores parts outside the goal. Does not consult the refiner.
+    Paper {
+        /// Seed of the order sampler (SplitMix64).
+        seed: u64,
+    },
+}
+
+/// Which joint values the search may use (the lattice L = L_1 × … × L_n).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct LatticeSettings {
+    /// Interior values per joint, evenly spaced strictly between the limits (`k` values at
+    /// `lower + i·(upper − lower)/(k + 1)`, `i = 1..=k`), for part-way openings. Default 1.
+    pub interior_values: usize,
+}
+
+impl Default for LatticeSettings {
+    fn default() -> Self {
+        LatticeSettings { interior_values: 1 }
+    }
+}
+
+/// Weights of the plan cost (all terms in metres).
+///
+/// The cost of a plan is the sum over its steps of
+/// `action + actuation · (handle travel) + travel · (base travel)`, where handle travel is
+/// the arc length the grasp point moves (`r·|Δφ|` for revolute, `|Δd|` for prismatic, `r`
+/// the handle's distance from the axis) and base travel the length of the grid path the robot
+/// drives to the step's base pose.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct CostWeights {
+    /// Fixed cost per action (m), `>= 0`. Default 0.5: one extra action costs as much as
+    /// half a metre of driving.
+    pub action: f64,
+    /// Weight of the handle travel, `>= 0`. Default 1.
+    pub actuation: f64,
+    /// Weight of the base travel, `>= 0`. Default 1.
+    pub travel: f64,
+}
+
+impl Default for CostWeights {
+    fn default() -> Self {
+        CostWeights {
+            action: 0.5,
+            actuation: 1.0,
+            travel: 1.0,
+        }
+    }
+}
+
+/// Where the robot base may stand to operate a part: the *manipulation region*.
+///
+/// A base position `c` (centre of a free grid cell) is admissible for moving joint `j` from
+/// `a` to `b` with handle `h` iff, for each of the `steps + 1` grasp points `p_k` of the
+/// Eq. (3)–(5) trajectory: `reach_min <= |c − p_k|_xy <= reach_max` and
+/// `height_min <= p_k.z <= height_max`; the handle's outward normal at the start `n_0` is at
+/// most `max_normal_elevation` above or below horizontal (`|n_0.z| <= sin`, a side grasp);
+/// and `c` lies on the outward side of the handle at the start, `(c − p_0)_xy · n_0 >= 0`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ManipulationSettings {
+    /// Smallest horizontal base-to-grasp distance (m). Default 0.25.
+    pub reach_min: f64,
+    /// Largest horizontal base-to-grasp distance (m). Default 0.9.
+    pub reach_max: f64,
+    /// Lowest grasp height (m). Default 0.0.
+    pub height_min: f64,
+    /// Highest grasp height (m). Default 2.0.
+    pub height_max: f64,
+    /// Largest angle (rad) between the handle's outward normal and the horizontal plane at the
+    /// start of the motion, in `[0, π/2]`: handles facing up or down more steeply cannot be
+    /// grasped from the side. Default 1.0 (57°).
+    pub max_normal_elevation: f64,
+    /// Steps K of the grasp trajectory checked against the reach limits, `1..=1000`.
+    /// Default 16.
+    pub steps: usize,
+}
+
+impl Default for ManipulationSettings {
+    fn default() -> Self {
+        ManipulationSettings {
+            reach_min: 0.25,
+            reach_max: 0.9,
+            height_min: 0.0,
+            height_max: 2.0,
+            max_normal_elevation: 1.0,
+            steps: 16,
+        }
+    }
+}
+
+/// Settings of [`plan`](super::plan).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TaskSettings {
+    /// Which planner.
+    pub strategy: Strategy,
+    /// The lattice of joint values.
+    pub lattice: LatticeSettings,
+    /// The cost.
+    pub cost: CostWeights,
+    /// The continuous-sound sweep check (margin, resolution, collision predicate).
+    pub sweep: SweepSettings,
+    /// The manipulation region.
+    pub manipulation: ManipulationSettings,
+    /// Edges evaluated concurrently per batch (0: one per available thread). Default 0.
+    pub parallelism: usize,
+    /// Candidate orders the [`Strategy::Paper`] sampler draws before giving up. Default 10 000.
+    pub max_samples: usize,
+    /// Weight `w >= 1` of the heuristic in the search's priority `g + w·h`. 1 (default) is
+    /// A*; larger values expand fewer states when the plan needs moves the heuristic does not
+    /// see (closing a door that blocks the way), at the price of costs up to `w` times the
+    /// minimum (over the active joints, with `travel = 0`). Completeness does not depend on
+    /// it.
+    pub heuristic_weight: f64,
+}
+
+impl Default for TaskSettings {
+    fn default() -> Self {
+        TaskSettings {
+            strategy: Strategy::Search,
+            lattice: LatticeSettings::default(),
+            cost: CostWeights::default(),
+            sweep: SweepSettings::default(),
+            manipulation: ManipulationSettings::default(),
+            parallelism: 0,
+            max_samples: 10_000,
+            heuristic_weight: 1.0,
+        }
+    }
+}
+
+impl TaskSettings {
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// [`Error::InvalidSetting`] naming the first field out of range; scene errors for
+    /// invalid sweep settings.
+    pub fn validate(&self) -> Result<(), Error> {
+        let bad = |what: &str, value: f64| Error::InvalidSetting {
+            what: what.into(),
+            value,
+        };
+        self.sweep.validate()?;
+        if !(self.heuristic_weight.is_finite() && self.heuristic_weight >= 1.0) {
+            return Err(bad("heuristic_weight", self.heuristic_weight));
+        }
+        if self.lattice.interior_values > 64 {
+            return Err(bad(
+                "lattice.interior_values",
+                self.lattice.interior_values as f64,
+            ));
+        }
+        for (what, v) in [
+            ("cost.action", self.cost.action),
+            ("cost.actuation", self.cost.actuation),
+            ("cost.travel", self.cost.travel),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(bad(what, v));
+            }
+        }
+        let m = &self.manipulation;
+        if !(m.reach_min.is_finite() && m.reach_min >= 0.0) {
+            return Err(bad("manipulation.reach_min", m.reach_min));
+        }
+        if !(m.reach_max.is_finite() && m.reach_max > m.reach_min) {
+            return Err(bad("manipulation.reach_max", m.reach_max));
+        }
+        if !(m.height_min.is_finite() && m.height_max.is_finite() && m.height_max > m.height_min) {
+            return Err(bad("manipulation.height_max", m.height_max));
+        }
+        if !(0.0..=std::f64::consts::FRAC_PI_2).contains(&m.max_normal_elevation) {
+            return Err(bad(
+                "manipulation.max_normal_elevation",
+                m.max_normal_elevation,
+            ));
+        }
+        if !(1..=1000).contains(&m.steps) {
+            return Err(bad("manipulation.steps", m.steps as f64));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,9 @@
+//! Task layer: goals, the lattice search, baselines, the validator.
+
+mod baselines;
+mod basic;
+mod brute_force;
+mod cases;
+pub mod generators;
+mod refiner;
+mod validate;
