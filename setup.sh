@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # kinscene set-up: installs everything the C++ backends need, idempotently.
 #
-#   Debian packages : libompl-dev (OMPL 1.5, boost 1.74), libeigen3-dev, pkg-config
+#   Debian packages : libompl-dev (OMPL 1.5, boost 1.74), libeigen3-dev, pkg-config,
+#                     coq (8.16, checks proofs/)
 #   Python wheels   : pinned in scripts/requirements.txt, into the project-local venv .deps/venv
 #                     (libpinocchio + cmeel prefix, casadi + IPOPT plugin)
 #
@@ -14,7 +15,7 @@ cd "$root"
 
 log() { printf 'setup: %s\n' "$*" >&2; }
 
-apt_packages=(libompl-dev libeigen3-dev pkg-config)
+apt_packages=(libompl-dev libeigen3-dev pkg-config coq)
 if [ "${KINSCENE_SKIP_APT:-0}" != 1 ]; then
     missing=()
     for p in "${apt_packages[@]}"; do
