@@ -31,9 +31,9 @@
 //! - **search_t0**: the same with `cost.travel = 0` (base travel free), planted family only:
 //!   an ablation that shows how much of the search's effort comes from the base-travel term
 //!   its heuristic does not bound;
-//! - **paper**: [`Strategy::Paper`] (rejection-sampled orders of the goal joints, one box per
-//!   part at 6 samples, the search's path rule), `max_samples` [`PAPER_MAX_SAMPLES`], budget
-//!   [`PAPER_BUDGET`], seed = instance number;
+//! - **paper**: [`Strategy::Paper`] (rejection-sampled orders of the goal joints, boxes of the
+//!   manipulated parts at 6 samples, the search's path rule; see src/task/baseline.rs),
+//!   `max_samples` [`PAPER_MAX_SAMPLES`], budget [`PAPER_BUDGET`], seed = instance number;
 //! - **brute_force**: breadth-first search over the full lattice (every joint, every lattice
 //!   value, no heuristic, no memo, no active set) from the start, calling
 //!   [`Feasibility::check`] on every move out of every dequeued state, goal test on
