@@ -45,7 +45,7 @@
 use std::collections::{HashMap, HashSet};
 use std::time::Instant;
 
-use nalgebra::{Isometry3, Point2, Vector3};
+use nalgebra::Point2;
 
 use super::grid::Blocked;
 use super::lattice::Lattice;
@@ -53,12 +53,12 @@ use super::plan::{
     BodyName, Cause, Failure, Infeasibility, Outcome, Partial, Plan, PlanResult, SearchStats, Step,
 };
 use super::{Error, Feasibility, MoveCheck, Problem, TaskSettings, Termination};
+use crate::scene::collision::geometry::WorldBox;
 use crate::scene::collision::{Body, collisions};
 use crate::scene::motion::grasp_trajectory;
 use crate::scene::nav::occupancy;
 use crate::scene::{
-    BaseShapeId, JointId, JointKind, PartId, SceneData, SceneModel, Shape, State,
-    forward_kinematics,
+    BaseShapeId, JointId, JointKind, PartId, SceneData, SceneModel, State, forward_kinematics,
 };
 
 /// Configurations per part in the *Paper* planner's box precomputation.
@@ -341,88 +341,18 @@ pub(crate) fn random(
     })
 }
 
-/// An axis-aligned box in the world frame.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Aabb {
-    min: Vector3<f64>,
-    max: Vector3<f64>,
-}
-
-impl Aabb {
-    fn around(center: Vector3<f64>, half: Vector3<f64>) -> Self {
-        Aabb {
-            min: center - half,
-            max: center + half,
-        }
-    }
-
-    fn union(self, o: Aabb) -> Aabb {
-        Aabb {
-            min: self.min.inf(&o.min),
-            max: self.max.sup(&o.max),
-        }
-    }
-
-    /// Whether the open boxes intersect (touching faces do not overlap).
-    fn overlaps(&self, o: &Aabb) -> bool {
-        (0..3).all(|k| self.min[k] < o.max[k] && o.min[k] < self.max[k])
-    }
-
-    /// The exact world box of `shape` placed at `world_from_shape`.
-    fn of_shape(shape: &Shape, world_from_shape: &Isometry3<f64>) -> Aabb {
-        let center = world_from_shape.translation.vector;
-        let rotation = world_from_shape.rotation.to_rotation_matrix();
-        let r = rotation.matrix();
-        // Extent of a segment of half-length `l` along the shape's z, swept by a disc
-        // (cylinder) or a ball (capsule) of radius `radius`.
-        let along_z = |l: f64, radius: f64, disc: bool| {
-            let a = r.column(2);
-            Vector3::from_fn(|k, _| {
-                let side = if disc {
-                    (1.0 - a[k] * a[k]).max(0.0).sqrt()
-                } else {
-                    1.0
-                };
-                a[k].abs() * l + radius * side
-            })
-        };
-        match shape {
-            Shape::Cuboid { half_extents } => Aabb::around(center, r.abs() * half_extents),
-            Shape::Sphere { radius } => Aabb::around(center, Vector3::repeat(*radius)),
-            Shape::Cylinder { radius, length } => {
-                Aabb::around(center, along_z(length / 2.0, *radius, true))
-            }
-            Shape::Capsule { radius, length } => {
-                Aabb::around(center, along_z(length / 2.0, *radius, false))
-            }
-            Shape::ConvexMesh { vertices, .. } => {
-                let mut b = Aabb {
-                    min: Vector3::repeat(f64::INFINITY),
-                    max: Vector3::repeat(f64::NEG_INFINITY),
-                };
-                for v in vertices {
-                    let w = (world_from_shape * v).coords;
-                    b = b.union(Aabb { min: w, max: w });
-                }
-                b
-            }
-        }
-    }
-}
-
 /// The boxes of the parts of a subtree at one state (parts without colliders have none).
-type Boxes = Vec<(PartId, Aabb)>;
+type Boxes = Vec<(PartId, WorldBox)>;
 
 fn subtree_boxes(model: &SceneModel, data: &SceneData, root: PartId) -> Boxes {
     model.parts()[root.index()]
         .subtree()
         .filter_map(|p| {
             let world_from_part = data.world_from_parts()[p.index()];
-            model.parts()[p.index()]
-                .colliders()
+            model.geometry.parts[p.index()]
                 .iter()
-                .map(|c| Aabb::of_shape(&c.shape, &(world_from_part * c.part_from_shape)))
-                .reduce(Aabb::union)
+                .map(|c| c.world_box(&world_from_part))
+                .reduce(WorldBox::union)
                 .map(|b| (p, b))
         })
         .collect()
@@ -508,7 +438,7 @@ impl<'a> BoxTest<'a> {
     fn conflict(&self, order: &[usize], i: usize) -> Option<Failure> {
         let g = order[i];
         let root = self.moves[g].joint.part();
-        let mut others: Vec<(PartId, Aabb)> = Vec::new();
+        let mut others: Vec<(PartId, WorldBox)> = Vec::new();
         for (pos, &h) in order.iter().enumerate() {
             if h == g {
                 continue;

@@ -145,14 +145,13 @@ pub(crate) fn run(
                 round_expanded += 1;
                 if round_expanded % GROW_CHECK == 0 {
                     for &k in &deferred[processed..] {
-                        let f = &failures[k];
-                        for j in checker
-                            .path_failure_blockers(&mut data, &f.key, f.joint, f.to, &active)?
-                        {
-                            if !active[j.index()] {
-                                new_blockers[j.index()] = true;
-                            }
-                        }
+                        mark_blockers(
+                            &checker,
+                            &mut data,
+                            &failures[k],
+                            &active,
+                            &mut new_blockers,
+                        )?;
                     }
                     processed = deferred.len();
                     let all_active = active.iter().all(|a| *a);
@@ -329,12 +328,13 @@ pub(crate) fn run(
         }
         // Exhausted the lattice restricted to the active joints (or leaving early to grow).
         for &k in &deferred[processed..] {
-            let f = &failures[k];
-            for j in checker.path_failure_blockers(&mut data, &f.key, f.joint, f.to, &active)? {
-                if !active[j.index()] {
-                    new_blockers[j.index()] = true;
-                }
-            }
+            mark_blockers(
+                &checker,
+                &mut data,
+                &failures[k],
+                &active,
+                &mut new_blockers,
+            )?;
             if termination.should_stop() {
                 stats.elapsed = started.elapsed();
                 stats.vetoes = caches.vetoes;
@@ -368,6 +368,22 @@ pub(crate) fn run(
             });
         }
     }
+}
+
+/// Marks the inactive joints a deferred (base-pose) failure depends on.
+fn mark_blockers(
+    checker: &Checker<'_>,
+    data: &mut SceneData,
+    f: &Recorded,
+    active: &[bool],
+    new_blockers: &mut [bool],
+) -> Result<(), Error> {
+    for j in checker.path_failure_blockers(data, &f.key, f.joint, f.to, active)? {
+        if !active[j.index()] {
+            new_blockers[j.index()] = true;
+        }
+    }
+    Ok(())
 }
 
 /// Runs the sweeps of `batch` that the memo lacks, in parallel.

@@ -16,6 +16,11 @@ pub(crate) fn point(p: &Point3<f64>) -> Vector {
     Vector::new(p.x, p.y, p.z)
 }
 
+/// A parry vector as a nalgebra vector.
+pub(crate) fn from_vector(v: &Vector) -> Vector3<f64> {
+    Vector3::new(v.x, v.y, v.z)
+}
+
 /// A nalgebra isometry as a parry pose.
 pub(crate) fn pose(iso: &Isometry3<f64>) -> Pose {
     let q = iso.rotation.quaternion();

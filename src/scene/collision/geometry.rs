@@ -82,9 +82,51 @@ impl CompiledShape {
         })
     }
 
+    /// The shape's world-aligned bounding box for an owner at `world_from_owner` (parry's
+    /// `compute_aabb`: exact for every shape used here).
+    pub(crate) fn world_box(&self, world_from_owner: &Isometry3<f64>) -> WorldBox {
+        let aabb = self
+            .shape
+            .compute_aabb(&convert::pose(&(world_from_owner * self.owner_from_parry)));
+        WorldBox {
+            min: convert::from_vector(&aabb.mins),
+            max: convert::from_vector(&aabb.maxs),
+        }
+    }
+
     /// The bounding sphere's centre in the world, given the owner's world pose.
     pub(crate) fn world_center(&self, world_from_owner: &Isometry3<f64>) -> Point3<f64> {
         world_from_owner * self.sphere.center
+    }
+}
+
+/// An axis-aligned box in the world frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct WorldBox {
+    /// Lower corner.
+    pub min: Vector3<f64>,
+    /// Upper corner.
+    pub max: Vector3<f64>,
+}
+
+impl WorldBox {
+    /// The smallest box containing both.
+    pub(crate) fn union(self, o: WorldBox) -> WorldBox {
+        WorldBox {
+            min: self.min.inf(&o.min),
+            max: self.max.sup(&o.max),
+        }
+    }
+
+    /// Whether the open boxes intersect (touching faces do not count).
+    pub(crate) fn overlaps(&self, o: &WorldBox) -> bool {
+        (0..3).all(|k| self.min[k] < o.max[k] && o.min[k] < self.max[k])
+    }
+
+    /// The largest separation of the two boxes along a world axis (`<= 0` if they overlap):
+    /// a lower bound on the distance between any point of one and any point of the other.
+    pub(crate) fn gap(&self, o: &WorldBox) -> f64 {
+        (o.min - self.max).sup(&(self.min - o.max)).max()
     }
 }
 

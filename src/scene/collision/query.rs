@@ -2,12 +2,11 @@
 
 use std::cell::OnceCell;
 
-use nalgebra::{Isometry3, Point3, Vector3};
+use nalgebra::Isometry3;
 
-use crate::scene::collision::geometry::Placed;
+use crate::scene::collision::geometry::{Placed, WorldBox};
 use crate::scene::collision::settings::{Body, CollisionSettings};
 use crate::scene::ids::{BaseShapeId, Parent, PartId};
-use crate::scene::shape::Shape;
 use crate::scene::{Error, SceneData, SceneModel};
 
 /// A checked pair of bodies and their separation distance (m, 0 when touching or overlapping).
@@ -137,54 +136,6 @@ pub(crate) fn checked_pairs(
 /// exact arithmetic, not only in floating point.
 const BOX_SLACK: f64 = 1e-9;
 
-/// An axis-aligned box in the world frame.
-#[derive(Debug, Clone, Copy)]
-struct WorldBox {
-    center: Vector3<f64>,
-    half: Vector3<f64>,
-}
-
-impl WorldBox {
-    /// A box containing `shape` placed at `world_from_shape`: the shape's box in its own
-    /// frame, rotated (`|R|·h`). Exact for cuboids and spheres; for the other shapes it
-    /// contains the shape (the shape lies in its own-frame box).
-    fn of(shape: &Shape, world_from_shape: &Isometry3<f64>) -> Self {
-        let (center, half) = match shape {
-            Shape::Cuboid { half_extents } => (Vector3::zeros(), *half_extents),
-            Shape::Sphere { radius } => (Vector3::zeros(), Vector3::repeat(*radius)),
-            Shape::Cylinder { radius, length } => (
-                Vector3::zeros(),
-                Vector3::new(*radius, *radius, length / 2.0),
-            ),
-            Shape::Capsule { radius, length } => (
-                Vector3::zeros(),
-                Vector3::new(*radius, *radius, length / 2.0 + radius),
-            ),
-            Shape::ConvexMesh { vertices, .. } => {
-                let (lo, hi) = vertices.iter().fold(
-                    (
-                        Vector3::repeat(f64::INFINITY),
-                        Vector3::repeat(f64::NEG_INFINITY),
-                    ),
-                    |(lo, hi), v| (lo.inf(&v.coords), hi.sup(&v.coords)),
-                );
-                ((lo + hi) / 2.0, (hi - lo) / 2.0)
-            }
-        };
-        let r = world_from_shape.rotation.to_rotation_matrix();
-        WorldBox {
-            center: (world_from_shape * Point3::from(center)).coords,
-            half: r.matrix().abs() * half,
-        }
-    }
-
-    /// The largest separation of the two boxes along a world axis (`<= 0` if they overlap):
-    /// a lower bound on the distance between any point of one and any point of the other.
-    fn gap(&self, o: &WorldBox) -> f64 {
-        ((self.center - o.center).abs() - self.half - o.half).max()
-    }
-}
-
 /// World boxes of the colliders of each body, computed on first use.
 struct Boxes<'a> {
     model: &'a SceneModel,
@@ -210,16 +161,16 @@ impl<'a> Boxes<'a> {
         match body {
             Body::Part(p) => self.parts[p.0].get_or_init(|| {
                 let world_from_part = &self.data.world_from_parts()[p.0];
-                self.model.parts[p.0]
-                    .colliders
+                self.model.geometry.parts[p.0]
                     .iter()
-                    .map(|c| WorldBox::of(&c.shape, &(world_from_part * c.part_from_shape)))
+                    .map(|c| c.world_box(world_from_part))
                     .collect()
             }),
-            Body::Base(b) => std::slice::from_ref(self.base[b.0].get_or_init(|| {
-                let s = &self.model.base.shapes[b.0];
-                WorldBox::of(&s.shape, &s.world_from_shape)
-            })),
+            Body::Base(b) => {
+                std::slice::from_ref(self.base[b.0].get_or_init(|| {
+                    self.model.geometry.base[b.0].world_box(&Isometry3::identity())
+                }))
+            }
         }
     }
 }

@@ -121,7 +121,7 @@ fn hull_obj(vertices: &[Point3<f64>], what: &str) -> Result<String, Error> {
         reason: "convex hull construction failed".into(),
     })?;
     let mut out = String::from("# Convex hull written by kinscene's URDF export\n");
-    for p in &hull {
+    for p in hull.iter().map(convert::from_vector) {
         // parry's hull vertices are copies of input points.
         let _ = writeln!(out, "v {} {} {}", number(p.x), number(p.y), number(p.z));
     }
