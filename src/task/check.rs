@@ -18,11 +18,11 @@
 //! inflated by the radius plus half that spacing (so it covers the continuous sweep).
 
 use std::collections::HashMap;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use super::Error;
 use super::goal::Problem;
-use super::grid::Blocked;
+use super::grid::{Blocked, CellMask, Disc, Distances, Flood, set_cells};
 use super::lattice::Lattice;
 use super::plan::{BodyName, Cause};
 use super::reach::{ancestor_joints, sweep_contexts};
@@ -85,10 +85,31 @@ pub(crate) enum Verdict {
 /// The start's free components before and after a move.
 type Components = (Vec<bool>, Vec<bool>);
 
-/// Occupancy of one state: blocked cells and the start's free component.
+/// Occupancy of one state: blocked cells, and the start's free component explored on demand.
 pub(crate) struct Occupancy {
     pub blocked: Blocked,
-    pub start_component: Vec<bool>,
+    flood: Mutex<Flood>,
+}
+
+impl Occupancy {
+    fn new(blocked: Blocked, start_cell: usize) -> Self {
+        Occupancy {
+            flood: Mutex::new(Flood::new(&blocked, start_cell)),
+            blocked,
+        }
+    }
+
+    /// Whether `cell` is in the start's free component.
+    pub fn reaches(&self, cell: usize) -> bool {
+        let mut flood = self.flood.lock().unwrap_or_else(|e| e.into_inner());
+        flood.reaches(&self.blocked, cell)
+    }
+
+    /// The start's free component.
+    pub fn component(&self) -> Vec<bool> {
+        let mut flood = self.flood.lock().unwrap_or_else(|e| e.into_inner());
+        flood.complete(&self.blocked).to_vec()
+    }
 }
 
 /// A cell of a move's manipulation region, with the handle it serves and the handle travel.
@@ -108,20 +129,64 @@ pub(crate) struct Caches {
     /// Manipulation regions, keyed like sweeps with the joint's ancestors as context.
     regions: HashMap<SweepKey, Arc<Vec<RegionCell>>>,
     /// Swept footprints, keyed like sweeps with ancestors and subtree as context.
-    swept: HashMap<SweepKey, Arc<Vec<bool>>>,
-    travel: HashMap<(Key, usize), Arc<Vec<f64>>>,
+    swept: HashMap<SweepKey, Arc<CellMask>>,
+    /// Travel distances from a robot cell in a state, settled on demand.
+    travel: HashMap<(Key, usize), Arc<Mutex<Distances>>>,
+    /// Inflated footprint of one part at one pose (its joint's and its ancestors' values):
+    /// the cells it blocks beyond the inflated base map. Used only when `per_part` is set.
+    footprints: HashMap<(usize, Vec<u16>), Arc<Vec<u32>>>,
+    /// Build occupancies from cached per-part footprints (the search) instead of
+    /// rasterising every part at every state (fresh checks).
+    per_part: bool,
     /// The refiner's verdicts, per (state, joint, target): asked once per move.
     refinements: HashMap<(Key, usize, u16), Refinement>,
     /// Refiner calls that vetoed.
     pub vetoes: usize,
 }
 
+impl Caches {
+    /// Caches for a search: occupancies are assembled from per-part footprints cached by
+    /// pose (the same cells as rasterising the whole state: inflation distributes over
+    /// unions).
+    pub fn for_search() -> Self {
+        Caches {
+            per_part: true,
+            ..Caches::default()
+        }
+    }
+}
+
 /// Entries kept per cache before it is cleared (bounds memory on long searches).
 const CACHE_LIMIT: usize = 4096;
+/// Occupancies kept (each holds two grid-sized arrays).
+const OCCUPANCY_LIMIT: usize = 512;
+/// Travel-distance tables kept (each holds about ten bytes per grid cell).
+const TRAVEL_LIMIT: usize = 128;
 
 fn bounded<K: std::hash::Hash + Eq, V>(m: &mut HashMap<K, V>) {
-    if m.len() >= CACHE_LIMIT {
+    bounded_to(m, CACHE_LIMIT);
+}
+
+fn bounded_to<K: std::hash::Hash + Eq, V>(m: &mut HashMap<K, V>, limit: usize) {
+    if m.len() >= limit {
         m.clear();
+    }
+}
+
+/// Offers the entries `rs` at base travel cost `travel` to the running minimum `best` of
+/// `travel + aw·actuation`, ties to the lower cell, then to the entry offered first.
+fn consider<'r>(
+    travel: f64,
+    aw: f64,
+    rs: &[&'r RegionCell],
+    best: &mut Option<(f64, &'r RegionCell)>,
+) {
+    for r in rs {
+        let cost = travel + aw * r.actuation;
+        let lower = best.is_none_or(|(c, b)| cost.total_cmp(&c).then(r.cell.cmp(&b.cell)).is_lt());
+        if lower {
+            *best = Some((cost, r));
+        }
     }
 }
 
@@ -137,6 +202,10 @@ pub(crate) struct Checker<'a> {
     ancestors: Vec<Vec<JointId>>,
     /// Ancestors and subtree of each joint: what its swept footprint depends on.
     shape_context: Vec<Vec<JointId>>,
+    /// Ancestors and the joint itself, per part: what the part's pose depends on.
+    pose_context: Vec<Vec<JointId>>,
+    /// The robot disc of `NavGrid::inflate` on the base grid.
+    disc: Disc,
 }
 
 impl<'a> Checker<'a> {
@@ -163,6 +232,21 @@ impl<'a> Checker<'a> {
                 v
             })
             .collect();
+        let pose_context = model
+            .parts()
+            .iter()
+            .map(|p| {
+                let mut v = ancestors[p.id().index()].clone();
+                v.push(p.joint());
+                v
+            })
+            .collect();
+        let disc = Disc::new(
+            radius,
+            base_blocked.resolution(),
+            base_blocked.width(),
+            base_blocked.height(),
+        );
         let mut checker = Checker {
             model,
             settings,
@@ -173,6 +257,8 @@ impl<'a> Checker<'a> {
             contexts: sweep_contexts(model, gap),
             ancestors,
             shape_context,
+            pose_context,
+            disc,
         };
         checker.start_cell = checker.locate_start(problem)?;
         Ok(checker)
@@ -234,6 +320,11 @@ impl<'a> Checker<'a> {
             .map(|(k, &i)| self.lattice.values(JointId(k))[i as usize])
             .collect();
         State { q }
+    }
+
+    /// The base map's grid inflated by the robot radius.
+    pub fn base_grid(&self) -> &crate::scene::nav::NavGrid {
+        &self.base_blocked
     }
 
     /// The centre of a grid cell.
@@ -336,11 +427,72 @@ impl<'a> Checker<'a> {
         };
         let mut blocked = Blocked::from_grid(&self.base_blocked);
         blocked.union_with(parts.inflate(self.radius)?.cells());
-        let start_component = blocked.component(self.start_cell);
-        Ok(Occupancy {
-            blocked,
-            start_component,
-        })
+        Ok(Occupancy::new(blocked, self.start_cell))
+    }
+
+    /// The cells part `part` blocks beyond the inflated base map at the state of the last
+    /// forward kinematics: its footprint inflated by the robot radius.
+    fn part_blocks(&self, data: &SceneData, part: PartId) -> Result<Vec<u32>, Error> {
+        let fp = part_footprint(self.model, data, part)?;
+        let cells = set_cells(fp.cells());
+        let (w, h) = (self.base_blocked.width(), self.base_blocked.height());
+        let base = self.base_blocked.cells();
+        Ok(self
+            .disc
+            .inflate(w, h, &cells)
+            .cells()
+            .filter(|&c| !base[c])
+            .map(|c| c as u32)
+            .collect())
+    }
+
+    /// Occupancy of a lattice state from the per-part footprints cached by pose (equal to
+    /// [`Checker::occupancy_of`] with every part).
+    fn assembled_occupancy(
+        &self,
+        caches: &mut Caches,
+        data: &mut SceneData,
+        key: &[u16],
+        include: &dyn Fn(PartId) -> bool,
+    ) -> Result<Occupancy, Error> {
+        let mut blocked = Blocked::from_grid(&self.base_blocked);
+        let mut posed = false;
+        for p in self.model.parts() {
+            if !include(p.id()) {
+                continue;
+            }
+            let cells = self.cached_blocks(caches, data, key, p.id(), &mut posed)?;
+            for &c in cells.iter() {
+                blocked.cells[c as usize] = true;
+            }
+        }
+        Ok(Occupancy::new(blocked, self.start_cell))
+    }
+
+    /// [`Checker::part_blocks`] of `part` at lattice state `key`, cached by the part's pose.
+    /// `posed`: whether `data` already holds the forward kinematics of `key` (set when this
+    /// call computes it).
+    fn cached_blocks(
+        &self,
+        caches: &mut Caches,
+        data: &mut SceneData,
+        key: &[u16],
+        part: PartId,
+        posed: &mut bool,
+    ) -> Result<Arc<Vec<u32>>, Error> {
+        let k = part.index();
+        let fkey = (k, Self::values_of(key, &self.pose_context[k]));
+        if let Some(c) = caches.footprints.get(&fkey) {
+            return Ok(c.clone());
+        }
+        if !*posed {
+            forward_kinematics(self.model, data, &self.state_of(key))?;
+            *posed = true;
+        }
+        let c = Arc::new(self.part_blocks(data, part)?);
+        bounded_to(&mut caches.footprints, 4 * CACHE_LIMIT);
+        caches.footprints.insert(fkey, c.clone());
+        Ok(c)
     }
 
     fn cached_occupancy(
@@ -352,8 +504,12 @@ impl<'a> Checker<'a> {
         if let Some(o) = caches.occupancy.get(key) {
             return Ok(o.clone());
         }
-        let o = Arc::new(self.occupancy_of(data, &self.state_of(key), true, &|_| true)?);
-        bounded(&mut caches.occupancy);
+        let o = Arc::new(if caches.per_part {
+            self.assembled_occupancy(caches, data, key, &|_| true)?
+        } else {
+            self.occupancy_of(data, &self.state_of(key), true, &|_| true)?
+        });
+        bounded_to(&mut caches.occupancy, OCCUPANCY_LIMIT);
         caches.occupancy.insert(key.to_vec(), o.clone());
         Ok(o)
     }
@@ -438,67 +594,96 @@ impl<'a> Checker<'a> {
         joint: JointId,
         b: f64,
         include: &dyn Fn(PartId) -> bool,
-    ) -> Result<Vec<bool>, Error> {
+    ) -> Result<CellMask, Error> {
         let a = state.q[joint.index()];
         forward_kinematics(self.model, data, state)?;
         let lipschitz = motion_bound(self.model, data, joint)?.lipschitz();
         let res = self.base_blocked.resolution();
         let n = ((lipschitz * (b - a).abs() / res).ceil() as usize).clamp(1, 1000);
         let spacing = lipschitz * (b - a).abs() / n as f64;
-        let mut grid = self.base_blocked.cleared();
+        let (w, h) = (self.base_blocked.width(), self.base_blocked.height());
+        let mut covered = vec![false; w * h];
         let mut s = state.clone();
         for k in 0..=n {
             s.q[joint.index()] = a + (b - a) * k as f64 / n as f64;
             forward_kinematics(self.model, data, &s)?;
             for p in self.model.parts()[joint.index()].subtree() {
                 if include(p) {
-                    grid.union_with(&part_footprint(self.model, data, p)?)?;
+                    for c in set_cells(part_footprint(self.model, data, p)?.cells()) {
+                        covered[c as usize] = true;
+                    }
                 }
             }
         }
-        Ok(Blocked::from_grid(&grid.inflate(self.radius + 0.5 * spacing)?).cells)
+        let disc = Disc::new(self.radius + 0.5 * spacing, res, w, h);
+        Ok(disc.inflate(w, h, &set_cells(&covered)))
     }
 
-    /// Base-pose check of a move (check 2), with only parts `include` accepts, uncached.
+    /// Base-pose check of a move (check 2), with only parts `include` accepts.
+    #[allow(clippy::too_many_arguments)]
     fn base_pose_ok(
         &self,
+        caches: &mut Caches,
         data: &mut SceneData,
-        state: &State,
+        key: &[u16],
         joint: JointId,
-        b: f64,
+        to: u16,
         include: &dyn Fn(PartId) -> bool,
     ) -> Result<bool, Error> {
         Ok(self
-            .base_pose_witness(data, state, joint, b, include)?
+            .base_pose_witness(caches, data, key, joint, to, include)?
             .is_some())
+    }
+
+    /// Occupancy of lattice state `key` with only the parts `include` accepts (not cached
+    /// as a whole; per-part footprints are when `caches.per_part`).
+    fn filtered_occupancy(
+        &self,
+        caches: &mut Caches,
+        data: &mut SceneData,
+        key: &[u16],
+        include: &dyn Fn(PartId) -> bool,
+    ) -> Result<Occupancy, Error> {
+        if caches.per_part {
+            self.assembled_occupancy(caches, data, key, include)
+        } else {
+            self.occupancy_of(data, &self.state_of(key), false, include)
+        }
     }
 
     /// As [`Checker::base_pose_ok`]; when it passes, also the start's free components before
     /// and after the move (the cells whose blocking could make it fail).
     fn base_pose_witness(
         &self,
+        caches: &mut Caches,
         data: &mut SceneData,
-        state: &State,
+        key: &[u16],
         joint: JointId,
-        b: f64,
+        to: u16,
         include: &dyn Fn(PartId) -> bool,
     ) -> Result<Option<Components>, Error> {
-        let region = self.region(data, state, joint, b)?;
+        let region = self.cached_region(caches, data, key, joint, to)?;
         if region.is_empty() {
             return Ok(None);
         }
-        let before = self.occupancy_of(data, state, false, include)?;
-        let swept = self.swept_cells(data, state, joint, b, include)?;
-        let mut after_state = state.clone();
-        after_state.q[joint.index()] = b;
-        let after = self.occupancy_of(data, &after_state, false, include)?;
+        let before = self.filtered_occupancy(caches, data, key, include)?;
+        let subtree = &self.model.parts()[joint.index()];
+        let swept = if subtree.subtree().all(include) {
+            self.cached_swept(caches, data, key, joint, to)?
+        } else {
+            let b = self.lattice.values(joint)[to as usize];
+            Arc::new(self.swept_cells(data, &self.state_of(key), joint, b, include)?)
+        };
+        let mut after_key = key.to_vec();
+        after_key[joint.index()] = to;
+        let after = self.filtered_occupancy(caches, data, &after_key, include)?;
         let ok = region.iter().any(|r| {
             !before.blocked.cells[r.cell]
-                && before.start_component[r.cell]
-                && !swept[r.cell]
-                && after.start_component[r.cell]
+                && !swept.contains(r.cell)
+                && before.reaches(r.cell)
+                && after.reaches(r.cell)
         });
-        Ok(ok.then_some((before.start_component, after.start_component)))
+        Ok(ok.then_some((before.component(), after.component())))
     }
 
     /// The inactive joints a failed base-pose check depends on.
@@ -512,52 +697,141 @@ impl<'a> Checker<'a> {
     /// active joints and the named ones.
     pub fn path_failure_blockers(
         &self,
+        caches: &mut Caches,
         data: &mut SceneData,
         key: &[u16],
         joint: JointId,
         to: u16,
         active: &[bool],
     ) -> Result<Vec<JointId>, Error> {
-        let state = &self.state_of(key);
-        let b = self.lattice.values(joint)[to as usize];
         let Some((comp_before, comp_after)) =
-            self.base_pose_witness(data, state, joint, b, &|p| active[p.index()])?
+            self.base_pose_witness(caches, data, key, joint, to, &|p| active[p.index()])?
         else {
             return Ok(Vec::new());
         };
         let subtree = &self.model.parts()[joint.index()];
         // A footprint inflated by r touches the components iff the footprint touches the
-        // components inflated by r (cell-to-square distances are symmetric on the grid).
-        let mut comps = self.model.base_grid().cleared();
-        let w = comps.width();
-        for (k, (x, y)) in comp_before.iter().zip(&comp_after).enumerate() {
-            if *x || *y {
-                comps.set_occupied(k % w, k / w, true);
-            }
-        }
-        let reach = comps.inflate(self.radius)?;
+        // components inflated by r (cell-to-square distances are symmetric on the grid);
+        // the inflated footprint's cells beyond the inflated base map are enough, since the
+        // components hold no cell of that map.
         let mut named = vec![false; self.model.nq()];
-        let mut after = state.clone();
-        after.q[joint.index()] = b;
-        for st in [state, &after] {
-            forward_kinematics(self.model, data, st)?;
+        let mut after_key = key.to_vec();
+        after_key[joint.index()] = to;
+        for k in [key, &after_key[..]] {
+            let mut posed = false;
             for p in self.model.parts() {
-                let k = p.id().index();
-                if active[k] || named[k] {
+                let i = p.id().index();
+                if active[i] || named[i] {
                     continue;
                 }
                 if subtree.subtree_contains(p.id()) {
-                    named[k] = true;
+                    named[i] = true;
                     continue;
                 }
-                let fp = part_footprint(self.model, data, p.id())?;
-                named[k] = fp.cells().iter().zip(reach.cells()).any(|(a, b)| *a && *b);
+                let cells = if caches.per_part {
+                    self.cached_blocks(caches, data, k, p.id(), &mut posed)?
+                } else {
+                    if !posed {
+                        forward_kinematics(self.model, data, &self.state_of(k))?;
+                        posed = true;
+                    }
+                    Arc::new(self.part_blocks(data, p.id())?)
+                };
+                named[i] = cells
+                    .iter()
+                    .any(|&c| comp_before[c as usize] || comp_after[c as usize]);
             }
         }
         Ok((0..named.len())
             .filter(|&k| named[k])
             .map(JointId)
             .collect())
+    }
+
+    /// The manipulation region of moving `joint` to lattice value `to` in state `key`.
+    fn cached_region(
+        &self,
+        caches: &mut Caches,
+        data: &mut SceneData,
+        key: &[u16],
+        joint: JointId,
+        to: u16,
+    ) -> Result<Arc<Vec<RegionCell>>, Error> {
+        let ctx = Self::values_of(key, &self.ancestors[joint.index()]);
+        let rkey = (joint.index(), key[joint.index()], to, ctx);
+        if let Some(r) = caches.regions.get(&rkey) {
+            return Ok(r.clone());
+        }
+        let b = self.lattice.values(joint)[to as usize];
+        let r = Arc::new(self.region(data, &self.state_of(key), joint, b)?);
+        bounded(&mut caches.regions);
+        caches.regions.insert(rkey, r.clone());
+        Ok(r)
+    }
+
+    /// The swept footprint of moving `joint` to lattice value `to` in state `key`.
+    fn cached_swept(
+        &self,
+        caches: &mut Caches,
+        data: &mut SceneData,
+        key: &[u16],
+        joint: JointId,
+        to: u16,
+    ) -> Result<Arc<CellMask>, Error> {
+        let skey = (
+            joint.index(),
+            key[joint.index()],
+            to,
+            Self::values_of(key, &self.shape_context[joint.index()]),
+        );
+        if let Some(s) = caches.swept.get(&skey) {
+            return Ok(s.clone());
+        }
+        let b = self.lattice.values(joint)[to as usize];
+        let s = Arc::new(self.swept_cells(data, &self.state_of(key), joint, b, &|_| true)?);
+        bounded(&mut caches.swept);
+        caches.swept.insert(skey, s.clone());
+        Ok(s)
+    }
+
+    /// A lower bound on `actuation·(handle travel) + travel·(straight-line distance from the
+    /// robot's cell to the base cell) + extra(base cell)` over the cells of the
+    /// move's manipulation region that are free in state `key`; `INFINITY` if there are none
+    /// (the move is then infeasible) and 0 for a part without handles. Every feasible
+    /// choice of [`Checker::evaluate`] is such a cell, and its base travel (a grid path) is
+    /// at least the straight-line distance, so with `extra` the heuristic of the state after
+    /// the move this bounds the move's cost (without the fixed action cost) plus that
+    /// heuristic from below. Cached inputs only: region and occupancy.
+    #[allow(clippy::too_many_arguments)]
+    pub fn move_bound(
+        &self,
+        caches: &mut Caches,
+        data: &mut SceneData,
+        key: &[u16],
+        robot_cell: usize,
+        joint: JointId,
+        to: u16,
+        extra: &dyn Fn(usize) -> f64,
+    ) -> Result<f64, Error> {
+        if self.model.parts()[joint.index()].handles().is_empty() {
+            return Ok(0.0);
+        }
+        let region = self.cached_region(caches, data, key, joint, to)?;
+        let before = self.cached_occupancy(caches, data, key)?;
+        let [rx, ry] = self.cell_xy(robot_cell);
+        let (tw, aw) = (self.settings.cost.travel, self.settings.cost.actuation);
+        let mut best = f64::INFINITY;
+        for r in region.iter() {
+            if before.blocked.cells[r.cell] {
+                continue;
+            }
+            let [x, y] = self.cell_xy(r.cell);
+            let near = aw * r.actuation + tw * (x - rx).hypot(y - ry);
+            if near < best {
+                best = best.min(near + extra(r.cell));
+            }
+        }
+        Ok(best)
     }
 
     /// The full verdict of moving `joint` to lattice value `to` in state `key` with the robot
@@ -600,17 +874,7 @@ impl<'a> Checker<'a> {
         // 2. Base pose.
         let state = self.state_of(key);
         let b = self.lattice.values(joint)[to as usize];
-        let ctx = Self::values_of(key, &self.ancestors[joint.index()]);
-        let rkey = (joint.index(), key[joint.index()], to, ctx);
-        let region = match caches.regions.get(&rkey) {
-            Some(r) => r.clone(),
-            None => {
-                let r = Arc::new(self.region(data, &state, joint, b)?);
-                bounded(&mut caches.regions);
-                caches.regions.insert(rkey, r.clone());
-                r
-            }
-        };
+        let region = self.cached_region(caches, data, key, joint, to)?;
         if region.is_empty() {
             return Ok(Verdict::Infeasible {
                 cause: Cause::NoBasePose,
@@ -618,55 +882,30 @@ impl<'a> Checker<'a> {
             });
         }
         let before = self.cached_occupancy(caches, data, key)?;
-        let skey = (
-            joint.index(),
-            key[joint.index()],
-            to,
-            Self::values_of(key, &self.shape_context[joint.index()]),
-        );
-        let swept = match caches.swept.get(&skey) {
-            Some(s) => s.clone(),
-            None => {
-                let s = Arc::new(self.swept_cells(data, &state, joint, b, &|_| true)?);
-                bounded(&mut caches.swept);
-                caches.swept.insert(skey, s.clone());
-                s
-            }
-        };
+        let swept = self.cached_swept(caches, data, key, joint, to)?;
         let mut after_key = key.to_vec();
         after_key[joint.index()] = to;
         let after = self.cached_occupancy(caches, data, &after_key)?;
-        let tkey = (key.to_vec(), robot_cell);
-        let travel = match caches.travel.get(&tkey) {
-            Some(t) => t.clone(),
-            None => {
-                let t = Arc::new(before.blocked.distances(robot_cell));
-                bounded(&mut caches.travel);
-                caches.travel.insert(tkey, t.clone());
-                t
-            }
-        };
         let res = self.base_blocked.resolution();
         let clear: Vec<&RegionCell> = region
             .iter()
-            .filter(|r| !before.blocked.cells[r.cell] && !swept[r.cell])
+            .filter(|r| !before.blocked.cells[r.cell] && !swept.contains(r.cell))
             .collect();
-        let reachable: Vec<&&RegionCell> = clear
+        // The robot stands in the start's free component of this state (the start cell, or
+        // the base cell of the move that led here, which had to be in it), so it can drive
+        // to exactly the cells of that component.
+        let reachable: Vec<&RegionCell> = clear
             .iter()
-            .filter(|r| travel[r.cell].is_finite())
+            .copied()
+            .filter(|r| before.reaches(r.cell))
             .collect();
-        let best = reachable
+        let feasible: Vec<&RegionCell> = reachable
             .iter()
-            .filter(|r| after.start_component[r.cell])
-            .min_by(|x, y| {
-                let cost = |r: &RegionCell| {
-                    self.settings.cost.travel * travel[r.cell] * res
-                        + self.settings.cost.actuation * r.actuation
-                };
-                cost(x).total_cmp(&cost(y)).then(x.cell.cmp(&y.cell))
-            });
-        let Some(best) = best else {
-            let cause = if clear.is_empty() && region.iter().all(|r| swept[r.cell]) {
+            .copied()
+            .filter(|r| after.reaches(r.cell))
+            .collect();
+        if feasible.is_empty() {
+            let cause = if clear.is_empty() && region.iter().all(|r| swept.contains(r.cell)) {
                 Cause::NoBasePose
             } else if reachable.is_empty() {
                 Cause::PathBlocked {
@@ -679,13 +918,67 @@ impl<'a> Checker<'a> {
                 cause,
                 blockers: Blockers::Deferred,
             });
+        }
+        // The cheapest: least `travel·(path length) + actuation·(handle travel)`, then the
+        // lowest cell index, then the first in region order. Path lengths are settled in
+        // increasing order from the robot's cell only as far as that choice needs.
+        let tkey = (key.to_vec(), robot_cell);
+        let travel = match caches.travel.get(&tkey) {
+            Some(t) => t.clone(),
+            None => {
+                let t = Arc::new(Mutex::new(Distances::new(&before.blocked, robot_cell)));
+                bounded_to(&mut caches.travel, TRAVEL_LIMIT);
+                caches.travel.insert(tkey, t.clone());
+                t
+            }
         };
+        let mut travel = travel.lock().unwrap_or_else(|e| e.into_inner());
+        let (tw, aw) = (self.settings.cost.travel, self.settings.cost.actuation);
+        let mut best: Option<(f64, &RegionCell)> = None;
+        if tw == 0.0 {
+            consider(0.0, aw, &feasible, &mut best);
+        } else {
+            // Per cell, the region entries that can be chosen there.
+            let mut at: HashMap<usize, Vec<&RegionCell>> = HashMap::new();
+            for r in &feasible {
+                at.entry(r.cell).or_default().push(r);
+            }
+            let least_actuation = feasible
+                .iter()
+                .map(|r| aw * r.actuation)
+                .fold(f64::INFINITY, f64::min);
+            // Cells settled by earlier questions first, then settle on.
+            for (cell, rs) in &at {
+                if let Some(d) = travel.settled(*cell) {
+                    consider(tw * d * res, aw, rs, &mut best);
+                }
+            }
+            while best.is_none_or(|(c, _)| tw * travel.frontier() * res + least_actuation <= c) {
+                let Some((cell, d)) = travel.settle_next(&before.blocked) else {
+                    break;
+                };
+                if let Some(rs) = at.get(&cell) {
+                    consider(tw * d * res, aw, rs, &mut best);
+                }
+            }
+        }
+        let Some((_, best)) = best else {
+            // Unreachable: every feasible cell is in the robot's component.
+            return Ok(Verdict::Infeasible {
+                cause: Cause::PathBlocked {
+                    blockers: Vec::new(),
+                },
+                blockers: Blockers::Deferred,
+            });
+        };
+        let best_travel = travel.to(&before.blocked, best.cell);
+        drop(travel);
         let [x, y] = self.cell_xy(best.cell);
         let choice = Choice {
             handle: best.handle,
             cell: best.cell,
             base: [x, y, best.yaw],
-            travel: travel[best.cell] * res,
+            travel: best_travel * res,
             actuation: best.actuation,
         };
         // 3. Refinement.
@@ -727,6 +1020,7 @@ impl<'a> Checker<'a> {
     /// Parts whose footprint alone blocks the base-pose check of a move (for reports).
     pub fn path_blockers(
         &self,
+        caches: &mut Caches,
         data: &mut SceneData,
         key: &[u16],
         joint: JointId,
@@ -750,7 +1044,7 @@ impl<'a> Checker<'a> {
                     continue;
                 }
             }
-            if self.base_pose_ok(data, &state, joint, b, &|q| q != p.id())? {
+            if self.base_pose_ok(caches, data, key, joint, to, &|q| q != p.id())? {
                 out.push(p.name().to_string());
             }
         }

@@ -26,9 +26,17 @@
 //! A* over lattice states with lazy edge evaluation: a move is checked only when it is the
 //! best open entry, then re-queued with its true cost; each state is closed once (closed set
 //! on the joint values). The cost of a plan is `Σ action + actuation·(handle arc length) +
-//! travel·(base path length)` ([`CostWeights`], metres). The heuristic — for each unmet goal
-//! joint, one action plus its handle's minimum travel to the target — is admissible and
-//! consistent. The robot's position is part of a search node (it sets the travel cost) but
+//! travel·(base path length)` ([`CostWeights`], metres). The heuristic has two parts: for
+//! each unmet goal joint, one action plus its handle's minimum travel to the target; and,
+//! with `travel > 0`, a lower bound on the base travel still ahead — the robot must still
+//! reach, for every unmet goal joint, a cell within reach of that part's handle at its
+//! target (the larger of the distance to the farthest such set and the distance to the
+//! nearest plus a minimum spanning tree over them; see `heuristic.rs`). It never
+//! overestimates (admissible) and is consistent except on moves that take a goal joint out
+//! of its target (which can raise the travel bound by more than they cost). When a move
+//! comes up, its priority is first tightened with the travel to its own manipulation region
+//! and on from there (a cheap bound), and the move is checked only if it is still the best
+//! open entry. The robot's position is part of a search node (it sets the travel cost) but
 //! not of the closed set: feasibility does not depend on it (the robot is always in the
 //! start's free component), so closing a state on first arrival keeps the search complete,
 //! while the cost is minimal only with respect to the base poses of that first arrival, and
@@ -48,10 +56,25 @@
 //! the search runs again (checks are memoised across rounds). It reports `Infeasible` only
 //! when a round names no new joint: then no plan exists in the full lattice, because any
 //! plan, with its steps on inactive joints dropped, would pass every check the round made.
+//! A round that finds blockers outside the set may also give way to the next round before it
+//! is exhausted (after 32·2^(r−1) expansions in round `r`), since it can no longer end
+//! `Infeasible`.
+//!
+//! **Static proofs of infeasibility.** Before the rounds, two cheap tests may return
+//! `Infeasible` directly, each sound for the whole lattice: a goal joint whose part has no
+//! free base cell within reach of its handle at any lattice value inside the target
+//! (whatever its ancestors do; tested when `travel > 0`, with the heuristic's sets), and a pair of bodies placed only by goal joints that collide
+//! at every combination of those joints' lattice values inside their targets but not at the
+//! start (the last move that changes their relative pose would have to end in that
+//! collision, which its certified sweep excludes; see `conflict.rs`).
 //!
 //! **Memo and parallelism.** Sweep verdicts are memoised by (joint, from, to, the values of
 //! the joints that can influence that sweep — found with conservative reach spheres); the
 //! sweeps of the next few open moves are checked in parallel (rayon) before they are needed.
+//! The occupancy grid of a state is assembled from per-part inflated footprints cached by
+//! the part's pose (its own and its ancestors' joint values; equal to inflating the whole
+//! state's footprint, as inflation distributes over unions), and the start's free component
+//! and the robot's travel distances are explored only as far as a check needs them.
 //!
 //! # Baselines
 //! [`Strategy`] selects the paper's *Random* and *Paper* planners for comparison through the
@@ -59,9 +82,11 @@
 
 mod baseline;
 mod check;
+mod conflict;
 mod error;
 mod goal;
 mod grid;
+mod heuristic;
 mod lattice;
 mod plan;
 mod reach;
@@ -116,6 +141,17 @@ impl<'a> Termination<'a> {
             cancel: Some(flag),
             ..self
         }
+    }
+
+    /// Time left before the deadline (zero once it has passed); `None` without a deadline.
+    pub fn remaining(&self) -> Option<Duration> {
+        self.deadline
+            .map(|d| d.saturating_duration_since(Instant::now()))
+    }
+
+    /// The cancel flag, if any.
+    pub fn cancel_flag(&self) -> Option<&'a AtomicBool> {
+        self.cancel
     }
 
     /// Whether the deadline has passed or the flag is set.

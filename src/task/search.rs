@@ -8,7 +8,9 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use super::check::{Blockers, Caches, Checker, Key, SweepVerdict, Verdict};
+use super::conflict::static_conflict;
 use super::goal::Problem;
+use super::heuristic::Heuristic;
 use super::lattice::Lattice;
 use super::plan::{
     Cause, Failure, Infeasibility, Outcome, Partial, Plan, PlanResult, SearchStats, Step,
@@ -17,9 +19,12 @@ use super::refine::Refiner;
 use super::settings::TaskSettings;
 use super::{Error, Termination};
 use crate::scene::collision::collisions;
-use crate::scene::{JointId, JointKind, SceneData, SceneModel, forward_kinematics};
+use crate::scene::{JointId, SceneData, SceneModel, forward_kinematics};
 
-/// Expansions between checks of the deferred failures' blockers (see the round loop).
+/// Expansions between checks of the deferred failures' blockers (see the round loop). Round
+/// `r` (from 1) checks first after `GROW_CHECK · 2^(r−1)` expansions, so that each round
+/// may spend at least as much as all earlier ones before it gives way to a larger active
+/// set (a round that would end with a plan is not cut short too early).
 const GROW_CHECK: usize = 32;
 
 /// A closed (expanded) state.
@@ -32,11 +37,13 @@ struct Node {
 
 /// What a heap item carries.
 enum Item {
-    /// A move out of closed node `from`, not yet checked.
+    /// A move out of closed node `from`, not yet checked. `bounded`: its priority already
+    /// includes the bound of [`Checker::move_bound`].
     Edge {
         from: usize,
         joint: JointId,
         to: u16,
+        bounded: bool,
     },
     /// A checked move's target state, to be closed.
     Node(Box<Node>),
@@ -94,12 +101,47 @@ pub(crate) fn run(
                 .expect("the start value is in the lattice") as u16
         })
         .collect();
-    let radii = handle_radii(model);
-    let w = settings.heuristic_weight;
-    let h = |key: &[u16]| w * heuristic(&lattice, problem, settings, &radii, key);
-    let mut stats = SearchStats::default();
-    let mut caches = Caches::default();
+    let mut caches = Caches::for_search();
     let mut data = SceneData::new(model);
+    let heuristic = Heuristic::new(model, problem, settings, &lattice, &checker, &mut data)?;
+    let mut stats = SearchStats::default();
+    // Static proofs of infeasibility (sound for the whole lattice, see `conflict.rs` and
+    // `heuristic.rs`): a goal joint no move can bring into its target, or two goal parts
+    // that collide in every goal state.
+    if !problem.goal.is_satisfied(&problem.start) {
+        let unreachable = heuristic.unreachable_targets();
+        let why = if let Some(&k) = unreachable.first() {
+            let (joint, target) = problem.goal.targets()[k];
+            let name = model.joints()[joint.index()].name.clone();
+            let from = problem.start.as_slice()[joint.index()];
+            Some(Infeasibility {
+                message: format!(
+                    "no plan in the lattice: no base pose can operate {name} into its target"
+                ),
+                unreached: vec![name.clone()],
+                conflicts: vec![Failure {
+                    joint: name,
+                    from,
+                    to: target.nearest(from),
+                    cause: Cause::NoBasePose,
+                }],
+                start_collisions: Vec::new(),
+            })
+        } else {
+            static_conflict(model, problem, &checker, &lattice, termination)?
+        };
+        if let Some(why) = why {
+            stats.elapsed = started.elapsed();
+            return Ok(PlanResult {
+                outcome: Outcome::Infeasible(why),
+                stats,
+            });
+        }
+    }
+    let w = settings.heuristic_weight;
+    // The priority of a state with the robot at `cell`.
+    let h =
+        |key: &[u16], cell: usize| w * (heuristic.work(key) + heuristic.travel_of(key).at(cell));
     let mut active = vec![false; model.nq()];
     for (j, _) in problem.goal.targets() {
         close_over_ancestors(model, *j, &mut active);
@@ -124,7 +166,7 @@ pub(crate) fn run(
         // Failures whose blockers are computed only if this round is exhausted.
         let mut deferred: Vec<usize> = Vec::new();
         heap.push(Entry {
-            f: h(&start_key),
+            f: h(&start_key, checker.start_cell),
             g: 0.0,
             seq,
             item: Item::Node(Box::new(Node {
@@ -138,22 +180,25 @@ pub(crate) fn run(
         let mut processed = 0;
         let mut round_expanded = 0usize;
         while let Some(entry) = heap.pop() {
-            // Grow early: every GROW_CHECK expansions, compute the blockers of the failures
-            // deferred so far; if any names a joint outside the active set, the round cannot
-            // end Infeasible, so start the next one now instead of exhausting this one.
+            // Grow early: every GROW_CHECK expansions (from the round's first check on),
+            // compute the blockers of the failures deferred so far; if any names a joint
+            // outside the active set, the round cannot end Infeasible, so start the next one
+            // now instead of exhausting this one.
             if matches!(entry.item, Item::Node(_)) {
                 round_expanded += 1;
-                if round_expanded % GROW_CHECK == 0 {
-                    for &k in &deferred[processed..] {
+                let first_check = GROW_CHECK << (stats.rounds - 1).min(20);
+                if round_expanded >= first_check && round_expanded % GROW_CHECK == 0 {
+                    while processed < deferred.len() && !termination.should_stop() {
                         mark_blockers(
                             &checker,
+                            &mut caches,
                             &mut data,
-                            &failures[k],
+                            &failures[deferred[processed]],
                             &active,
                             &mut new_blockers,
                         )?;
+                        processed += 1;
                     }
-                    processed = deferred.len();
                     let all_active = active.iter().all(|a| *a);
                     if new_blockers.iter().any(|b| *b) || (unknown_blockers && !all_active) {
                         break;
@@ -186,7 +231,7 @@ pub(crate) fn run(
                         .iter()
                         .filter(|(j, i)| !i.contains(state.q[j.index()]))
                         .count();
-                    let hk = h(&key);
+                    let hk = h(&key, nodes[idx].robot);
                     if best_partial
                         .as_ref()
                         .is_none_or(|(u, bh, _)| (unmet, hk) < (*u, *bh))
@@ -202,6 +247,8 @@ pub(crate) fn run(
                             stats,
                         });
                     }
+                    let robot = checker.cell_xy(nodes[idx].robot);
+                    let approach = heuristic.approach(model, &mut data, &state, &active, robot)?;
                     for (j, is_active) in active.iter().enumerate() {
                         if !is_active {
                             continue;
@@ -216,35 +263,85 @@ pub(crate) fn run(
                             if closed.contains(&next) {
                                 continue;
                             }
-                            let lb =
-                                move_lower_bound(&lattice, settings, &radii, joint, key[j], to);
+                            // The move's cost without travel, the rest of the plan's, and
+                            // the travel to the move's base pose or on from there.
+                            let lb = heuristic.move_work(joint, key[j], to);
+                            let travel = heuristic
+                                .travel_of(&next)
+                                .at(nodes[idx].robot)
+                                .max(approach[j]);
                             seq += 1;
                             heap.push(Entry {
-                                f: g + lb + h(&next),
+                                f: g + lb + w * heuristic.work(&next) + travel,
                                 g: g + lb,
                                 seq,
                                 item: Item::Edge {
                                     from: idx,
                                     joint,
                                     to,
+                                    // Without travel the region bound adds nothing.
+                                    bounded: settings.cost.travel == 0.0,
                                 },
                             });
                         }
                     }
                 }
-                Item::Edge { from, joint, to } => {
+                Item::Edge {
+                    from,
+                    joint,
+                    to,
+                    bounded,
+                } => {
                     let mut next = nodes[from].key.clone();
                     next[joint.index()] = to;
                     if closed.contains(&next) {
                         continue;
                     }
+                    if !bounded {
+                        // Tighten the priority with the move's region (travel to its base
+                        // cells and on from there); check it later if that raises it.
+                        let travel = heuristic.travel_of(&next);
+                        let b = checker.move_bound(
+                            &mut caches,
+                            &mut data,
+                            &nodes[from].key,
+                            nodes[from].robot,
+                            joint,
+                            to,
+                            &|cell| w * travel.at(cell),
+                        )?;
+                        let f =
+                            nodes[from].g + settings.cost.action + w * heuristic.work(&next) + b;
+                        let item = Item::Edge {
+                            from,
+                            joint,
+                            to,
+                            bounded: true,
+                        };
+                        if f > entry.f + 1e-9 {
+                            seq += 1;
+                            heap.push(Entry {
+                                f,
+                                g: entry.g,
+                                seq,
+                                item,
+                            });
+                            continue;
+                        }
+                    }
                     // Check the sweeps of this and the next few pending moves in parallel.
                     let mut batch = vec![(nodes[from].key.clone(), joint, to)];
                     let mut held = Vec::new();
-                    while batch.len() < threads {
+                    while batch.len() < threads && held.len() < 4 * threads {
                         match heap.pop() {
                             Some(e) => {
-                                if let Item::Edge { from, joint, to } = &e.item {
+                                if let Item::Edge {
+                                    from,
+                                    joint,
+                                    to,
+                                    bounded: true,
+                                } = &e.item
+                                {
                                     batch.push((nodes[*from].key.clone(), *joint, *to));
                                 }
                                 held.push(e);
@@ -292,7 +389,7 @@ pub(crate) fn run(
                             };
                             seq += 1;
                             heap.push(Entry {
-                                f: g + h(&next),
+                                f: g + h(&next, choice.cell),
                                 g,
                                 seq,
                                 item: Item::Node(Box::new(Node {
@@ -330,6 +427,7 @@ pub(crate) fn run(
         for &k in &deferred[processed..] {
             mark_blockers(
                 &checker,
+                &mut caches,
                 &mut data,
                 &failures[k],
                 &active,
@@ -361,7 +459,15 @@ pub(crate) fn run(
         if !grow {
             stats.elapsed = started.elapsed();
             stats.vetoes = caches.vetoes;
-            let why = infeasibility(model, problem, &checker, &mut data, &nodes, &failures)?;
+            let why = infeasibility(
+                model,
+                problem,
+                &checker,
+                &mut caches,
+                &mut data,
+                &nodes,
+                &failures,
+            )?;
             return Ok(PlanResult {
                 outcome: Outcome::Infeasible(why),
                 stats,
@@ -373,12 +479,13 @@ pub(crate) fn run(
 /// Marks the inactive joints a deferred (base-pose) failure depends on.
 fn mark_blockers(
     checker: &Checker<'_>,
+    caches: &mut Caches,
     data: &mut SceneData,
     f: &Recorded,
     active: &[bool],
     new_blockers: &mut [bool],
 ) -> Result<(), Error> {
-    for j in checker.path_failure_blockers(data, &f.key, f.joint, f.to, active)? {
+    for j in checker.path_failure_blockers(caches, data, &f.key, f.joint, f.to, active)? {
         if !active[j.index()] {
             new_blockers[j.index()] = true;
         }
@@ -436,65 +543,6 @@ fn close_over_ancestors(model: &SceneModel, joint: JointId, active: &mut [bool])
     }
 }
 
-/// Per joint: a lower bound on the handle travel per unit of joint motion (the smallest
-/// handle distance from the axis for revolute joints, 1 for prismatic; 0 without handles).
-fn handle_radii(model: &SceneModel) -> Vec<f64> {
-    model
-        .joints()
-        .iter()
-        .zip(model.parts())
-        .map(|(j, p)| match j.kind {
-            _ if p.handles().is_empty() => 0.0,
-            JointKind::Prismatic => 1.0,
-            JointKind::Revolute => p
-                .handles()
-                .iter()
-                .map(|h| {
-                    let v = h.position.coords;
-                    (v - j.axis * j.axis.dot(&v)).norm()
-                })
-                .fold(f64::INFINITY, f64::min),
-        })
-        .collect()
-}
-
-fn move_lower_bound(
-    lattice: &Lattice,
-    settings: &TaskSettings,
-    radii: &[f64],
-    joint: JointId,
-    from: u16,
-    to: u16,
-) -> f64 {
-    let v = lattice.values(joint);
-    settings.cost.action
-        + settings.cost.actuation * radii[joint.index()] * (v[to as usize] - v[from as usize]).abs()
-}
-
-/// Admissible, consistent heuristic: each unmet goal joint needs at least one action and its
-/// handle must travel at least `r·distance to the target interval`.
-fn heuristic(
-    lattice: &Lattice,
-    problem: &Problem,
-    settings: &TaskSettings,
-    radii: &[f64],
-    key: &[u16],
-) -> f64 {
-    problem
-        .goal
-        .targets()
-        .iter()
-        .map(|(j, i)| {
-            let v = lattice.values(*j)[key[j.index()] as usize];
-            if i.contains(v) {
-                0.0
-            } else {
-                settings.cost.action + settings.cost.actuation * radii[j.index()] * i.distance(v)
-            }
-        })
-        .sum()
-}
-
 /// The closed state nearest the goal: (unmet targets, heuristic, steps to it).
 type Best = (usize, f64, Vec<Step>);
 
@@ -538,6 +586,7 @@ fn infeasibility(
     model: &SceneModel,
     problem: &Problem,
     checker: &Checker<'_>,
+    caches: &mut Caches,
     data: &mut SceneData,
     nodes: &[Node],
     failures: &[Recorded],
@@ -590,7 +639,7 @@ fn infeasibility(
     for (_, f) in grouped.into_iter().take(32) {
         let mut cause = f.cause.clone();
         if let Cause::PathBlocked { blockers } = &mut cause {
-            *blockers = checker.path_blockers(data, &f.key, f.joint, f.to)?;
+            *blockers = checker.path_blockers(caches, data, &f.key, f.joint, f.to)?;
         }
         conflicts.push(Failure {
             joint: model.joints()[f.joint.index()].name.clone(),
