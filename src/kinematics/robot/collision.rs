@@ -1,0 +1,292 @@
+//! Robot collision checking with parry: self-collision with allowed pairs, and robot against
+//! scene (base map and articulated parts) with a clearance margin.
+//!
+//! The robot's collision geometry is compiled into parry shapes once, with the scene layer's
+//! own shape compiler (so robot and scene shapes are the same parry shapes placed the same
+//! way). Every query first compares bounding volumes — a sphere per robot link, world-aligned
+//! boxes for the whole robot and every scene shape — and computes exact parry distances only
+//! for shape pairs that can be within the distance of interest.
+//!
+//! **Predicate.** Two shapes *touch* when their exact separation distance is `<= 0` (touching
+//! or overlapping); a robot link *collides with the scene* when some shape of it is within
+//! `margin` of some scene shape (`distance <= margin`), so `margin = 0` makes touching a
+//! collision, as in [`crate::scene::collision::CollisionSettings`].
+
+use nalgebra::{Isometry3, Point3, Vector3};
+
+use super::{RobotConfig, RobotError, RobotModel};
+use crate::scene::collision::Body;
+use crate::scene::collision::geometry::{CompiledShape, Placed, WorldBox};
+use crate::scene::{BaseShapeId, PartId, SceneData, SceneModel};
+
+/// The robot's compiled collision geometry and its self-collision pairs. Built once per robot
+/// ([`RobotCollision::new`]); immutable, `Send + Sync`.
+#[derive(Debug, Clone)]
+pub struct RobotCollision {
+    /// Per robot link, its shapes in the link frame.
+    shapes: Vec<Vec<CompiledShape>>,
+    /// Per robot link, a sphere enclosing its shapes (link frame); `None` without shapes.
+    spheres: Vec<Option<(Point3<f64>, f64)>>,
+    /// Link pairs `(i, j)`, `i < j`, checked for self-collision.
+    checked: Vec<(usize, usize)>,
+    /// Link pairs `(i, j)`, `i < j`, exempt from self-collision checking.
+    allowed: Vec<(usize, usize)>,
+    /// Links rigidly attached to the base.
+    base_links: Vec<usize>,
+}
+
+impl RobotCollision {
+    /// Compiles the robot's collision geometry and finds the allowed self-collision pairs:
+    /// adjacent links (a link and the child of its joint), and every pair of links that touch
+    /// at [`RobotModel::neutral`] (e.g. a wrist link and the next-but-one link of a compact
+    /// wrist, whose simple shapes overlap by construction).
+    ///
+    /// # Errors
+    /// [`RobotError::Collision`] if parry cannot compile a shape.
+    pub fn new(robot: &RobotModel) -> Result<RobotCollision, RobotError> {
+        let mut shapes = Vec::with_capacity(robot.links().len());
+        for link in robot.links() {
+            let mut compiled = Vec::with_capacity(link.colliders.len());
+            for (k, collider) in link.colliders.iter().enumerate() {
+                let what = format!("robot link {:?} collider {k}", link.name);
+                compiled.push(
+                    CompiledShape::new(&collider.shape, &collider.part_from_shape, &what).map_err(
+                        |e| RobotError::Collision {
+                            link: link.name.clone(),
+                            message: e.to_string(),
+                        },
+                    )?,
+                );
+            }
+            shapes.push(compiled);
+        }
+        let spheres = shapes.iter().map(|s| enclosing_sphere(s)).collect();
+        let mut collision = RobotCollision {
+            shapes,
+            spheres,
+            checked: Vec::new(),
+            allowed: Vec::new(),
+            base_links: vec![0],
+        };
+        let n = robot.links().len();
+        let neutral = robot.link_poses(&RobotConfig {
+            base: [0.0; 3],
+            arm: robot.neutral(),
+        })?;
+        let placed = collision.place(&neutral);
+        let (mut allowed, mut checked) = (Vec::new(), Vec::new());
+        for i in 0..n {
+            for j in i + 1..n {
+                if collision.shapes[i].is_empty() || collision.shapes[j].is_empty() {
+                    continue;
+                }
+                if j == i + 1 || min_distance(&placed[i], &placed[j], 0.0) <= 0.0 {
+                    allowed.push((i, j));
+                } else {
+                    checked.push((i, j));
+                }
+            }
+        }
+        drop(placed);
+        collision.allowed = allowed;
+        collision.checked = checked;
+        Ok(collision)
+    }
+
+    /// The link pairs `(i, j)`, `i < j`, exempt from self-collision checking (links without
+    /// shapes are in no pair).
+    pub fn allowed_pairs(&self) -> &[(usize, usize)] {
+        &self.allowed
+    }
+
+    /// The first checked link pair `(i, j)`, `i < j` (in lexicographic order), whose shapes
+    /// touch or overlap at `link_poses` (world from link, as [`RobotModel::link_poses`]
+    /// returns), or `None`. Links without a pose (a shorter slice) are not checked.
+    pub fn self_collision(&self, link_poses: &[Isometry3<f64>]) -> Option<(usize, usize)> {
+        let centers = self.world_spheres(link_poses);
+        let mut placed: Vec<Option<Vec<Placed<'_>>>> = Vec::with_capacity(self.shapes.len());
+        placed.resize_with(self.shapes.len(), || None);
+        for &(i, j) in &self.checked {
+            let (Some((ci, ri)), Some((cj, rj))) = (
+                centers.get(i).copied().flatten(),
+                centers.get(j).copied().flatten(),
+            ) else {
+                continue;
+            };
+            if (ci - cj).norm() - ri - rj > 0.0 {
+                continue;
+            }
+            for k in [i, j] {
+                if placed[k].is_none() {
+                    placed[k] = Some(self.place_link(k, &link_poses[k]));
+                }
+            }
+            let (Some(a), Some(b)) = (&placed[i], &placed[j]) else {
+                continue;
+            };
+            if min_distance(a, b, 0.0) <= 0.0 {
+                return Some((i, j));
+            }
+        }
+        None
+    }
+
+    /// The first robot link (lowest index) within `margin` (m, clearance required) of the
+    /// scene, and the scene body it is closest to among those in reach: base map shapes of
+    /// `model`, and its parts at the poses in `data` (which must hold
+    /// [`crate::scene::forward_kinematics`] of `model`), the parts in `ignore` excepted (the
+    /// grasped part). `None` if every link keeps more than `margin` from the scene.
+    /// Links without a pose (a shorter slice) are not checked; a negative or NaN margin counts
+    /// as 0.
+    pub fn scene_collision(
+        &self,
+        link_poses: &[Isometry3<f64>],
+        model: &SceneModel,
+        data: &SceneData,
+        ignore: &[PartId],
+        margin: f64,
+    ) -> Option<(usize, Body)> {
+        let margin = if margin > 0.0 { margin } else { 0.0 };
+        let links = self.shapes.len().min(link_poses.len());
+        let placed: Vec<Vec<(Placed<'_>, WorldBox)>> = (0..links)
+            .map(|l| {
+                self.shapes[l]
+                    .iter()
+                    .map(|s| {
+                        (
+                            Placed::new(s, &link_poses[l]),
+                            inflate(s.world_box(&link_poses[l]), margin),
+                        )
+                    })
+                    .collect()
+            })
+            .collect();
+        let robot_box = placed
+            .iter()
+            .flatten()
+            .map(|(_, b)| *b)
+            .reduce(WorldBox::union)?;
+        // Scene shapes whose box meets the robot's (inflated) box.
+        let identity = Isometry3::identity();
+        let mut candidates: Vec<(Body, Placed<'_>, WorldBox)> = Vec::new();
+        for (k, shape) in model.geometry.base.iter().enumerate() {
+            let b = shape.world_box(&identity);
+            if b.overlaps(&robot_box) {
+                candidates.push((Body::Base(BaseShapeId(k)), Placed::new(shape, &identity), b));
+            }
+        }
+        for (p, (shapes, pose)) in model
+            .geometry
+            .parts
+            .iter()
+            .zip(data.world_from_parts())
+            .enumerate()
+        {
+            if ignore.contains(&PartId(p)) {
+                continue;
+            }
+            for shape in shapes {
+                let b = shape.world_box(pose);
+                if b.overlaps(&robot_box) {
+                    candidates.push((Body::Part(PartId(p)), Placed::new(shape, pose), b));
+                }
+            }
+        }
+        if candidates.is_empty() {
+            return None;
+        }
+        for (l, link) in placed.iter().enumerate() {
+            let mut best: Option<(f64, Body)> = None;
+            for (robot_shape, robot_box) in link {
+                for (body, scene_shape, scene_box) in &candidates {
+                    if !robot_box.overlaps(scene_box)
+                        || robot_shape.sphere_gap(scene_shape) > margin
+                    {
+                        continue;
+                    }
+                    let d = robot_shape.distance(scene_shape);
+                    if d <= margin && best.is_none_or(|(b, _)| d < b) {
+                        best = Some((d, *body));
+                    }
+                }
+            }
+            if let Some((_, body)) = best {
+                return Some((l, body));
+            }
+        }
+        None
+    }
+
+    /// The links rigidly attached to the base (they move with the base only, whatever the arm
+    /// does): `[0]`, the base link with every link merged into it. SE(2) base validity with the
+    /// arm stowed checks these and the arm links at the stowed configuration.
+    pub fn base_links(&self) -> &[usize] {
+        &self.base_links
+    }
+
+    /// Every link's shapes placed at `link_poses`.
+    fn place<'a>(&'a self, link_poses: &[Isometry3<f64>]) -> Vec<Vec<Placed<'a>>> {
+        (0..self.shapes.len().min(link_poses.len()))
+            .map(|l| self.place_link(l, &link_poses[l]))
+            .collect()
+    }
+
+    fn place_link<'a>(&'a self, link: usize, world_from_link: &Isometry3<f64>) -> Vec<Placed<'a>> {
+        self.shapes[link]
+            .iter()
+            .map(|s| Placed::new(s, world_from_link))
+            .collect()
+    }
+
+    /// Per link, its enclosing sphere in the world.
+    fn world_spheres(&self, link_poses: &[Isometry3<f64>]) -> Vec<Option<(Point3<f64>, f64)>> {
+        self.spheres
+            .iter()
+            .zip(link_poses)
+            .map(|(s, pose)| s.map(|(c, r)| (pose * c, r)))
+            .collect()
+    }
+}
+
+/// The smallest distance between two sets of placed shapes, exact when it is `<= cutoff`
+/// (pairs whose bounding spheres are farther apart than `cutoff` are skipped; `+∞` if all are).
+fn min_distance(a: &[Placed<'_>], b: &[Placed<'_>], cutoff: f64) -> f64 {
+    let mut best = f64::INFINITY;
+    for x in a {
+        for y in b {
+            if x.sphere_gap(y) > cutoff {
+                continue;
+            }
+            best = best.min(x.distance(y));
+            if best <= 0.0 {
+                return best;
+            }
+        }
+    }
+    best
+}
+
+/// A sphere (centre, radius) enclosing the shapes' bounding spheres: centred on the mean of
+/// their centres.
+fn enclosing_sphere(shapes: &[CompiledShape]) -> Option<(Point3<f64>, f64)> {
+    if shapes.is_empty() {
+        return None;
+    }
+    let sum: Vector3<f64> = shapes.iter().map(|s| s.sphere.center.coords).sum();
+    let center = Point3::from(sum / shapes.len() as f64);
+    let radius = shapes
+        .iter()
+        .map(|s| (s.sphere.center - center).norm() + s.sphere.radius)
+        .fold(0.0, f64::max);
+    Some((center, radius))
+}
+
+/// `b` grown by `margin` (plus 1 nm, so that boxes of shapes exactly `margin` apart still
+/// overlap: [`WorldBox::overlaps`] compares open boxes) on every side.
+fn inflate(b: WorldBox, margin: f64) -> WorldBox {
+    let grow = Vector3::repeat(margin + 1e-9);
+    WorldBox {
+        min: b.min - grow,
+        max: b.max + grow,
+    }
+}

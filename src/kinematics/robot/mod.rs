@@ -1,0 +1,91 @@
+//! The mobile manipulator: a holonomic base carrying a serial arm, loaded from URDF.
+//!
+//! [`RobotModel`] is parsed with urdf-rs; its arm is also built as a Pinocchio model with
+//! `ModelBuilder` from the parsed data (not with Pinocchio's own URDF parser), for Jacobians and
+//! IK ([`crate::kinematics::ik`]). Forward kinematics of the whole robot is pure Rust
+//! ([`RobotModel::link_poses`]); collision checking, against itself and the scene, is
+//! [`RobotCollision`] (parry). The example robot of the paper ships with the crate:
+//! [`RobotModel::kinova_gen3_mobile`] (`robots/kinova_gen3_mobile.urdf`).
+//!
+//! # Robot URDF conventions
+//!
+//! - **Base.** The root link is the mobile base, and its frame the base frame: origin on the
+//!   floor, x forward, z up. Its planar motion `(x, y, yaw)` is implicit
+//!   ([`RobotModel::world_from_base`]). A URDF that models that motion with a `planar` or
+//!   `floating` joint from a `world`/`odom` root link is accepted: when the root link's only
+//!   joint is of one of these types, the joint is skipped, its child is the base link, and the
+//!   root link (with any collision elements) is ignored.
+//! - **Fixed merge.** A link attached by a `fixed` joint merges into its parent link, through
+//!   chains of any length: its collision elements move into the owner's frame, composed with
+//!   the fixed joints' origins, and a movable joint below it gets its origin composed the same
+//!   way ([`ArmJoint::parent_from_joint`]). The links between the base link and the first arm
+//!   joint merge into the base link; the arm root link's frame in the base frame is
+//!   [`RobotModel::base_from_arm_root`].
+//! - **Arm.** The arm is the chain of `revolute`, `continuous` and `prismatic` joints on the
+//!   path from the base link to the tool link, root to tip ([`RobotModel::arm_joints`]); it
+//!   must have at least one joint ([`RobotError::NoMovableJoint`]). [`RobotModel::links`]
+//!   holds the base link and one link per arm joint (its child).
+//! - **Gripper.** Movable joints off that path are allowed only below the last arm joint (a
+//!   gripper's finger and `<mimic>` joints): they are treated as fixed, frozen at value 0
+//!   clamped into their limits (their velocity limits are not checked), and their links merge
+//!   into the last arm link. A movable joint
+//!   anywhere else is [`RobotError::BranchingChain`].
+//! - **Tool.** The tool frame (TCP) is the frame of the link `tool_frame`, or of
+//!   [`RobotImportOptions::tool_link`]; its +z axis is the approach direction. Its pose in the
+//!   last arm link is [`RobotModel::last_from_tool`]; it must exist
+//!   ([`RobotError::MissingToolLink`]).
+//! - **Joints.** Axes must be finite and non-zero ([`RobotError::InvalidAxis`]) and are
+//!   normalised. `revolute` and `prismatic` limits need `lower <= upper` (no NaN;
+//!   [`RobotError::InvalidLimits`]); `continuous` joints have limits `±∞`
+//!   ([`ArmJointKind::Continuous`]). Every arm joint needs a finite positive `velocity` limit
+//!   ([`RobotError::NonPositiveLimit`]; a missing `<limit>` reads as velocity 0). URDF ≤ 1.1
+//!   has no acceleration limits: arm joints get [`DEFAULT_REVOLUTE_ACCELERATION`] (2 rad/s²) or
+//!   [`DEFAULT_PRISMATIC_ACCELERATION`] (1 m/s²) unless the `<limit>` carries a URDF 1.2
+//!   `acceleration`; replace them with [`RobotModel::with_acceleration_limits`]. `planar` and
+//!   `floating` joints elsewhere than from the root, and `spherical` joints, are
+//!   [`RobotError::UnsupportedJointType`].
+//! - **Frames.** `<origin xyz rpy>` is the child frame in the parent frame, with fixed-axis
+//!   roll-pitch-yaw `R = Rz(yaw)·Ry(pitch)·Rx(roll)`; a link's frame is its joint's frame at
+//!   value 0. Non-finite numbers are [`RobotError::NonFinite`].
+//! - **Collision.** Collision elements must be primitives (`box`, `cylinder`, `sphere`,
+//!   `capsule`; positive sizes, [`RobotError::InvalidShape`]); a `mesh` is
+//!   [`RobotError::MeshCollision`]. Visuals, inertials, effort limits, `<dynamics>`,
+//!   `<safety_controller>` and anything urdf-rs skips are ignored.
+//! - **Base limits.** URDF has no base description: the base is [`BaseKind::Holonomic`] with
+//!   [`DEFAULT_BASE_VELOCITY`] (0.5 m/s in x and y, 1.0 rad/s in yaw) and
+//!   [`DEFAULT_BASE_ACCELERATION`] (0.5 m/s², 1.0 rad/s²); its footprint radius is computed
+//!   from the collision geometry at [`RobotModel::neutral`]. Replace them with
+//!   [`RobotModel::with_base`].
+//!
+//! No input makes the loader panic: every check above is a typed [`RobotError`].
+//!
+//! # Example
+//! ```
+//! use kinscene::kinematics::robot::{RobotConfig, RobotModel};
+//! use nalgebra::DVector;
+//!
+//! let robot = RobotModel::kinova_gen3_mobile();
+//! assert_eq!(robot.dof(), 7);
+//! let config = RobotConfig { base: [1.0, 2.0, 0.5], arm: robot.neutral() };
+//! let poses = robot.link_poses(&config)?;
+//! assert_eq!(poses.len(), robot.links().len());
+//! let tool = robot.world_from_tool(&config)?;
+//! let expected = RobotModel::world_from_base(config.base) * robot.base_from_tool(&config.arm)?;
+//! assert!((tool.translation.vector - expected.translation.vector).norm() < 1e-12);
+//! # Ok::<(), kinscene::kinematics::robot::RobotError>(())
+//! ```
+
+mod collision;
+mod error;
+mod model;
+mod pinocchio;
+mod urdf;
+
+pub use collision::RobotCollision;
+pub use error::RobotError;
+pub use model::{
+    ArmJoint, ArmJointKind, BaseKind, DEFAULT_BASE_ACCELERATION, DEFAULT_BASE_VELOCITY,
+    DEFAULT_PRISMATIC_ACCELERATION, DEFAULT_REVOLUTE_ACCELERATION, MobileBase, RobotConfig,
+    RobotImportOptions, RobotLink, RobotModel,
+};
+pub use pinocchio::TOOL_FRAME;

@@ -1,0 +1,520 @@
+//! Parsing a robot URDF (urdf-rs) into arm joints, merged links and fixed frames.
+
+use std::collections::HashMap;
+
+use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
+use urdf_rs::{Geometry, JointType};
+
+use super::model::check_positive_limit;
+use super::{
+    ArmJoint, ArmJointKind, DEFAULT_PRISMATIC_ACCELERATION, DEFAULT_REVOLUTE_ACCELERATION,
+    RobotError, RobotImportOptions, RobotLink,
+};
+use crate::scene::{Collider, Shape};
+
+/// Deepest element nesting accepted: urdf-rs recurses once per level, so absurdly deep input
+/// would overflow the stack (an abort, not an error). A URDF needs 5 levels.
+const MAX_DEPTH: usize = 64;
+
+/// The robot as read from URDF, before the Pinocchio model is built.
+#[derive(Debug)]
+pub(super) struct Parsed {
+    pub name: String,
+    pub joints: Vec<ArmJoint>,
+    pub links: Vec<RobotLink>,
+    pub base_from_arm_root: Isometry3<f64>,
+    pub last_from_tool: Isometry3<f64>,
+}
+
+/// Parses and checks a robot URDF (see the module docs of `robot` for the conventions).
+pub(super) fn parse(text: &str, options: &RobotImportOptions) -> Result<Parsed, RobotError> {
+    let depth = nesting_depth(text);
+    if depth > MAX_DEPTH {
+        return Err(RobotError::Xml {
+            message: format!("elements nest {depth} levels deep (at most {MAX_DEPTH} accepted)"),
+        });
+    }
+    let robot = urdf_rs::read_from_string(text).map_err(|e| RobotError::Xml {
+        message: e.to_string(),
+    })?;
+    Tree::new(&robot)?.parse(&robot, options)
+}
+
+/// Link and joint indices of the URDF tree.
+struct Tree {
+    /// Link name → index in `robot.links`.
+    links: HashMap<String, usize>,
+    /// Per link: the joint (index in `robot.joints`) whose child it is.
+    parent_joint: Vec<Option<usize>>,
+    /// Per link: joints whose parent it is, in document order.
+    child_joints: Vec<Vec<usize>>,
+    /// The joints' (parent, child) link indices.
+    ends: Vec<(usize, usize)>,
+    /// The root link.
+    root: usize,
+}
+
+impl Tree {
+    fn new(robot: &urdf_rs::Robot) -> Result<Tree, RobotError> {
+        let mut links = HashMap::new();
+        for (i, link) in robot.links.iter().enumerate() {
+            if links.insert(link.name.clone(), i).is_some() {
+                return Err(RobotError::DuplicateName {
+                    what: "link",
+                    name: link.name.clone(),
+                });
+            }
+        }
+        let mut joint_names = HashMap::new();
+        let mut parent_joint = vec![None; robot.links.len()];
+        let mut child_joints = vec![Vec::new(); robot.links.len()];
+        let mut ends = Vec::with_capacity(robot.joints.len());
+        for (j, joint) in robot.joints.iter().enumerate() {
+            if joint_names.insert(joint.name.as_str(), j).is_some() {
+                return Err(RobotError::DuplicateName {
+                    what: "joint",
+                    name: joint.name.clone(),
+                });
+            }
+            let find = |role: &'static str, link: &str| {
+                links
+                    .get(link)
+                    .copied()
+                    .ok_or_else(|| RobotError::UnknownLink {
+                        joint: joint.name.clone(),
+                        role,
+                        link: link.to_owned(),
+                    })
+            };
+            let parent = find("parent", &joint.parent.link)?;
+            let child = find("child", &joint.child.link)?;
+            if let Some(other) = parent_joint[child] {
+                let other: &urdf_rs::Joint = &robot.joints[other];
+                return Err(RobotError::NotATree {
+                    reason: format!(
+                        "link {:?} is the child of joints {:?} and {:?}",
+                        joint.child.link, other.name, joint.name
+                    ),
+                });
+            }
+            parent_joint[child] = Some(j);
+            child_joints[parent].push(j);
+            ends.push((parent, child));
+        }
+        let roots: Vec<usize> = (0..robot.links.len())
+            .filter(|&l| parent_joint[l].is_none())
+            .collect();
+        let root = match roots.as_slice() {
+            [root] => *root,
+            [] => {
+                return Err(RobotError::NotATree {
+                    reason: if robot.links.is_empty() {
+                        "there are no links".into()
+                    } else {
+                        "every link has a parent (the joints form a cycle)".into()
+                    },
+                });
+            }
+            several => {
+                let names: Vec<&str> = several
+                    .iter()
+                    .map(|&l| robot.links[l].name.as_str())
+                    .collect();
+                return Err(RobotError::NotATree {
+                    reason: format!("several root links {names:?}"),
+                });
+            }
+        };
+        let tree = Tree {
+            links,
+            parent_joint,
+            child_joints,
+            ends,
+            root,
+        };
+        // Every link must be reachable from the root (otherwise there is a cycle).
+        let mut seen = vec![false; robot.links.len()];
+        let mut stack = vec![root];
+        while let Some(l) = stack.pop() {
+            seen[l] = true;
+            stack.extend(tree.child_joints[l].iter().map(|&j| tree.ends[j].1));
+        }
+        if let Some(l) = seen.iter().position(|s| !s) {
+            return Err(RobotError::NotATree {
+                reason: format!("link {:?} lies on a cycle", robot.links[l].name),
+            });
+        }
+        Ok(tree)
+    }
+
+    fn parse(
+        &self,
+        robot: &urdf_rs::Robot,
+        options: &RobotImportOptions,
+    ) -> Result<Parsed, RobotError> {
+        // A planar or floating joint out of the root (a `world`/`odom` link) is the base's
+        // implicit planar motion: skip it.
+        let base_link = match self.child_joints[self.root].as_slice() {
+            [j] if matches!(
+                robot.joints[*j].joint_type,
+                JointType::Planar | JointType::Floating
+            ) =>
+            {
+                self.ends[*j].1
+            }
+            _ => self.root,
+        };
+        let tool =
+            *self
+                .links
+                .get(&options.tool_link)
+                .ok_or_else(|| RobotError::MissingToolLink {
+                    link: options.tool_link.clone(),
+                })?;
+        // The path base → tool; its movable joints are the arm.
+        let mut path = Vec::new();
+        let mut at = tool;
+        while at != base_link {
+            let Some(j) = self.parent_joint[at] else {
+                // The tool is the skipped root link: no movable joint.
+                return Err(RobotError::NoMovableJoint {
+                    base: robot.links[base_link].name.clone(),
+                });
+            };
+            path.push(j);
+            at = self.ends[j].0;
+        }
+        path.reverse();
+        let arm: Vec<usize> = path
+            .iter()
+            .copied()
+            .filter(|&j| is_movable(&robot.joints[j].joint_type))
+            .collect();
+        if arm.is_empty() {
+            return Err(RobotError::NoMovableJoint {
+                base: robot.links[base_link].name.clone(),
+            });
+        }
+        let mut walk = Walk {
+            robot,
+            tree: self,
+            arm: &arm,
+            joints: Vec::with_capacity(arm.len()),
+            links: vec![RobotLink {
+                name: robot.links[base_link].name.clone(),
+                colliders: Vec::new(),
+            }],
+            owner: vec![None; robot.links.len()],
+            base_from_arm_root: Isometry3::identity(),
+        };
+        walk.visit(base_link)?;
+        let (owner, last_from_tool) = walk.owner[tool].ok_or_else(|| RobotError::NotATree {
+            reason: format!("tool link {:?} is not below the base", options.tool_link),
+        })?;
+        debug_assert_eq!(owner, arm.len());
+        Ok(Parsed {
+            name: robot.name.clone(),
+            joints: walk.joints,
+            links: walk.links,
+            base_from_arm_root: walk.base_from_arm_root,
+            last_from_tool,
+        })
+    }
+}
+
+/// The depth-first walk from the base link that assigns every link to its owning robot link.
+struct Walk<'a> {
+    robot: &'a urdf_rs::Robot,
+    tree: &'a Tree,
+    /// The arm joints (indices in `robot.joints`), root to tip.
+    arm: &'a [usize],
+    joints: Vec<ArmJoint>,
+    links: Vec<RobotLink>,
+    /// Per URDF link: (robot link index, robot link frame from URDF link frame).
+    owner: Vec<Option<(usize, Isometry3<f64>)>>,
+    base_from_arm_root: Isometry3<f64>,
+}
+
+impl Walk<'_> {
+    /// Visits `base` and everything below it, parents before children (joint order of the
+    /// document among siblings).
+    fn visit(&mut self, base: usize) -> Result<(), RobotError> {
+        self.owner[base] = Some((0, Isometry3::identity()));
+        self.add_colliders(base)?;
+        let mut stack: Vec<usize> = self.tree.child_joints[base].iter().rev().copied().collect();
+        while let Some(j) = stack.pop() {
+            let child = self.tree.ends[j].1;
+            self.joint(j)?;
+            stack.extend(self.tree.child_joints[child].iter().rev().copied());
+            self.add_colliders(child)?;
+        }
+        Ok(())
+    }
+
+    /// Handles joint `j`: an arm joint starts a new robot link, any other joint merges its
+    /// child into the owner of its parent.
+    fn joint(&mut self, j: usize) -> Result<(), RobotError> {
+        let joint = &self.robot.joints[j];
+        let (parent, child) = self.tree.ends[j];
+        let (owner, owner_from_parent) =
+            self.owner[parent].expect("parents are visited before children");
+        let origin = origin(&joint.origin, || format!("joint {:?} origin", joint.name))?;
+        if let Some(k) = self.arm.iter().position(|&a| a == j) {
+            let mut arm_joint = arm_joint(joint, origin, true)?;
+            if k == 0 {
+                self.base_from_arm_root = owner_from_parent;
+            } else {
+                arm_joint.parent_from_joint = owner_from_parent * origin;
+            }
+            self.joints.push(arm_joint);
+            self.links.push(RobotLink {
+                name: self.robot.links[child].name.clone(),
+                colliders: Vec::new(),
+            });
+            self.owner[child] = Some((k + 1, Isometry3::identity()));
+            return Ok(());
+        }
+        let parent_from_child = match joint.joint_type {
+            JointType::Fixed => origin,
+            JointType::Revolute | JointType::Continuous | JointType::Prismatic => {
+                // Off the arm chain: allowed below the last arm joint (gripper fingers, mimic
+                // joints), where it is frozen at 0 clamped into its limits.
+                if owner != self.arm.len() {
+                    return Err(RobotError::BranchingChain {
+                        joint: joint.name.clone(),
+                        link: self.robot.links[parent].name.clone(),
+                    });
+                }
+                let frozen = arm_joint(joint, origin, false)?;
+                frozen.parent_from_child(0.0_f64.clamp(frozen.lower, frozen.upper))
+            }
+            JointType::Planar | JointType::Floating | JointType::Spherical => {
+                return Err(RobotError::UnsupportedJointType {
+                    joint: joint.name.clone(),
+                    kind: format!("{:?}", joint.joint_type).to_lowercase(),
+                });
+            }
+        };
+        self.owner[child] = Some((owner, owner_from_parent * parent_from_child));
+        Ok(())
+    }
+
+    /// Converts the collision elements of URDF link `l` into colliders of its owner.
+    fn add_colliders(&mut self, l: usize) -> Result<(), RobotError> {
+        let link = &self.robot.links[l];
+        let (owner, owner_from_link) = self.owner[l].expect("visited");
+        for (index, collision) in link.collision.iter().enumerate() {
+            let pose = origin(&collision.origin, || {
+                format!("link {:?} collision {index} origin", link.name)
+            })?;
+            let shape = shape(&link.name, index, &collision.geometry)?;
+            self.links[owner]
+                .colliders
+                .push(Collider::new(shape, owner_from_link * pose));
+        }
+        Ok(())
+    }
+}
+
+fn is_movable(kind: &JointType) -> bool {
+    matches!(
+        kind,
+        JointType::Revolute | JointType::Continuous | JointType::Prismatic
+    )
+}
+
+/// An actuated joint from its URDF element (`parent_from_joint` = the given origin). The
+/// velocity and acceleration limits are checked only if `actuated` (not for frozen gripper
+/// joints, which only need an axis and limits).
+fn arm_joint(
+    joint: &urdf_rs::Joint,
+    origin: Isometry3<f64>,
+    actuated: bool,
+) -> Result<ArmJoint, RobotError> {
+    let name = &joint.name;
+    let axis = Vector3::from(*joint.axis.xyz);
+    let invalid_axis = || RobotError::InvalidAxis {
+        joint: name.clone(),
+        axis: *joint.axis.xyz,
+    };
+    if !axis.iter().all(|c| c.is_finite()) {
+        return Err(invalid_axis());
+    }
+    let axis = Unit::try_new(axis, 1e-12).ok_or_else(invalid_axis)?;
+    let limit = &joint.limit;
+    let (kind, lower, upper, default_acceleration) = match joint.joint_type {
+        JointType::Continuous => (
+            ArmJointKind::Continuous,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            DEFAULT_REVOLUTE_ACCELERATION,
+        ),
+        JointType::Prismatic => (
+            ArmJointKind::Prismatic,
+            limit.lower,
+            limit.upper,
+            DEFAULT_PRISMATIC_ACCELERATION,
+        ),
+        _ => (
+            ArmJointKind::Revolute,
+            limit.lower,
+            limit.upper,
+            DEFAULT_REVOLUTE_ACCELERATION,
+        ),
+    };
+    if lower.is_nan() || upper.is_nan() || lower > upper {
+        return Err(RobotError::InvalidLimits {
+            joint: name.clone(),
+            lower,
+            upper,
+        });
+    }
+    if actuated {
+        check_positive_limit(name, "velocity", limit.velocity)?;
+    }
+    // URDF 1.2 acceleration limits; absent ones read as +∞ and take the default.
+    let max_acceleration = if limit.acceleration == f64::INFINITY || !actuated {
+        default_acceleration
+    } else {
+        check_positive_limit(name, "acceleration", limit.acceleration)?;
+        limit.acceleration
+    };
+    Ok(ArmJoint {
+        name: name.clone(),
+        kind,
+        parent_from_joint: origin,
+        axis,
+        lower,
+        upper,
+        max_velocity: limit.velocity,
+        max_acceleration,
+    })
+}
+
+/// A URDF `<origin xyz rpy>` as `parent_from_child`, rpy fixed-axis `Rz(y)·Ry(p)·Rx(r)`.
+fn origin(pose: &urdf_rs::Pose, what: impl Fn() -> String) -> Result<Isometry3<f64>, RobotError> {
+    if !pose
+        .xyz
+        .iter()
+        .chain(pose.rpy.iter())
+        .all(|c| c.is_finite())
+    {
+        return Err(RobotError::NonFinite { what: what() });
+    }
+    Ok(Isometry3::from_parts(
+        Translation3::new(pose.xyz[0], pose.xyz[1], pose.xyz[2]),
+        UnitQuaternion::from_euler_angles(pose.rpy[0], pose.rpy[1], pose.rpy[2]),
+    ))
+}
+
+/// A collision primitive (meshes are rejected).
+fn shape(link: &str, index: usize, geometry: &Geometry) -> Result<Shape, RobotError> {
+    let invalid = |reason: String| RobotError::InvalidShape {
+        link: link.to_owned(),
+        index,
+        reason,
+    };
+    let positive = |what: &str, v: f64| {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(invalid(format!("{what} must be finite and > 0, got {v}")))
+        }
+    };
+    Ok(match geometry {
+        Geometry::Box { size } => Shape::box_size(Vector3::new(
+            positive("box size x", size[0])?,
+            positive("box size y", size[1])?,
+            positive("box size z", size[2])?,
+        )),
+        Geometry::Cylinder { radius, length } => Shape::Cylinder {
+            radius: positive("cylinder radius", *radius)?,
+            length: positive("cylinder length", *length)?,
+        },
+        Geometry::Capsule { radius, length } => Shape::Capsule {
+            radius: positive("capsule radius", *radius)?,
+            length: positive("capsule length", *length)?,
+        },
+        Geometry::Sphere { radius } => Shape::Sphere {
+            radius: positive("sphere radius", *radius)?,
+        },
+        Geometry::Mesh { filename, .. } => {
+            return Err(RobotError::MeshCollision {
+                link: link.to_owned(),
+                filename: filename.clone(),
+            });
+        }
+    })
+}
+
+/// An upper bound on the element nesting depth of `text` (comments, CDATA sections,
+/// processing instructions and declarations skipped; exact on well-formed XML).
+fn nesting_depth(text: &str) -> usize {
+    let b = text.as_bytes();
+    let (mut depth, mut max) = (0usize, 0usize);
+    let mut i = 0;
+    while let Some(k) = b[i..].iter().position(|&c| c == b'<') {
+        let lt = i + k;
+        let rest = &b[lt..];
+        let skip_to = |pattern: &[u8], from: usize| {
+            b[from.min(b.len())..]
+                .windows(pattern.len())
+                .position(|w| w == pattern)
+                .map_or(b.len(), |p| from + p + pattern.len())
+        };
+        i = if rest.starts_with(b"<!--") {
+            skip_to(b"-->", lt + 4)
+        } else if rest.starts_with(b"<![CDATA[") {
+            skip_to(b"]]>", lt + 9)
+        } else if rest.starts_with(b"<?") {
+            skip_to(b"?>", lt + 2)
+        } else if rest.starts_with(b"<!") {
+            skip_to(b">", lt + 2)
+        } else if rest.starts_with(b"</") {
+            depth = depth.saturating_sub(1);
+            skip_to(b">", lt + 2)
+        } else {
+            // A start tag: find its end, skipping quoted attribute values.
+            let mut quote = None;
+            let mut end = b.len();
+            for (p, &c) in b.iter().enumerate().skip(lt + 1) {
+                match (quote, c) {
+                    (Some(q), _) if c == q => quote = None,
+                    (Some(_), _) => {}
+                    (None, b'"' | b'\'') => quote = Some(c),
+                    (None, b'>') => {
+                        end = p + 1;
+                        break;
+                    }
+                    _ => {}
+                }
+            }
+            let self_closing = end >= 2 && end <= b.len() && b[end - 2] == b'/';
+            if !self_closing {
+                depth += 1;
+                max = max.max(depth);
+            } else {
+                max = max.max(depth + 1);
+            }
+            end
+        };
+        if i >= b.len() {
+            break;
+        }
+    }
+    max
+}
+
+#[cfg(test)]
+mod tests {
+    use super::nesting_depth;
+
+    #[test]
+    fn nesting_depth_counts_elements_only() {
+        let text = r#"<?xml version="1.0"?><!-- <a><b><c> -->
+            <robot name="r>"><link name="a"><collision><geometry><box size="1 1 1"/></geometry>
+            </collision></link><![CDATA[<x><y>]]></robot>"#;
+        assert_eq!(nesting_depth(text), 5);
+        assert_eq!(nesting_depth(&"<a>".repeat(1000)), 1000);
+    }
+}

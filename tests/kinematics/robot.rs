@@ -1,0 +1,714 @@
+//! The robot model: URDF loading, pure-Rust FK against Pinocchio, the shipped Gen3 mobile
+//! manipulator, typed errors for bad URDFs, and robot collision checking.
+
+use std::f64::consts::{FRAC_PI_2, PI};
+
+use kinscene::kinematics::pinocchio::{
+    Data, JointIndex, forward_kinematics, frame_placement, joint_placement,
+};
+use kinscene::kinematics::robot::{
+    ArmJointKind, MobileBase, RobotCollision, RobotConfig, RobotError, RobotImportOptions,
+    RobotModel, TOOL_FRAME,
+};
+use kinscene::scene::collision::Body;
+use kinscene::scene::{
+    BaseShape, Joint, JointKind, Limits, PartSpec, SceneData, SceneModel, SceneModelBuilder, Shape,
+    State, forward_kinematics as scene_fk,
+};
+use nalgebra::{DVector, Isometry3, UnitQuaternion, Vector3};
+use proptest::prelude::*;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// Translation distance (m) and rotation angle (rad) between two poses.
+fn pose_error(a: &Isometry3<f64>, b: &Isometry3<f64>) -> (f64, f64) {
+    (
+        (a.translation.vector - b.translation.vector).norm(),
+        a.rotation.angle_to(&b.rotation),
+    )
+}
+
+/// A random arm configuration: uniform within the limits, continuous joints in [-2π, 2π].
+fn random_arm(robot: &RobotModel, rng: &mut ChaCha8Rng) -> DVector<f64> {
+    let (lower, upper) = robot.arm_bounds();
+    DVector::from_fn(robot.dof(), |i, _| {
+        rng.random_range(lower[i].max(-2.0 * PI)..=upper[i].min(2.0 * PI))
+    })
+}
+
+// ---------------------------------------------------------------------------------------------
+// Forward kinematics
+// ---------------------------------------------------------------------------------------------
+
+/// Pure-Rust FK (nalgebra, joint by joint) and Pinocchio's FK of the model built from the
+/// parsed robot are independent implementations; they must agree on every link frame and the
+/// tool frame. Tolerance 1e-12 m / rad: both compose 7–9 rigid transforms of O(1 m) in f64,
+/// whose rounding error is ~1e-15 per operation.
+#[test]
+fn pure_rust_fk_matches_pinocchio_on_the_gen3() {
+    let robot = RobotModel::kinova_gen3_mobile();
+    let model = robot.pinocchio();
+    assert_eq!((model.nq(), model.nv()), (robot.dof(), robot.dof()));
+    let mut data = Data::new(model).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let mut worst: f64 = 0.0;
+    for _ in 0..300 {
+        let q = random_arm(&robot, &mut rng);
+        let base = [
+            rng.random_range(-5.0..5.0),
+            rng.random_range(-5.0..5.0),
+            rng.random_range(-PI..PI),
+        ];
+        forward_kinematics(model, &mut data, &q).unwrap();
+        let world_from_base = RobotModel::world_from_base(base);
+        let poses = robot
+            .link_poses(&RobotConfig {
+                base,
+                arm: q.clone(),
+            })
+            .unwrap();
+        assert_eq!(poses.len(), robot.dof() + 1);
+        let (t, r) = pose_error(&poses[0], &world_from_base);
+        assert!(t < 1e-12 && r < 1e-12);
+        // Pinocchio joint i + 1 is arm joint i; its frame is link i + 1's frame.
+        for i in 0..robot.dof() {
+            let pin = world_from_base * joint_placement(model, &data, JointIndex(i + 1)).unwrap();
+            let (t, r) = pose_error(&poses[i + 1], &pin);
+            worst = worst.max(t).max(r);
+            assert!(t < 1e-12 && r < 1e-12, "link {}: {t} m, {r} rad", i + 1);
+        }
+        let pin_tool = frame_placement(model, &data, robot.tool_frame()).unwrap();
+        let (t, r) = pose_error(&robot.base_from_tool(&q).unwrap(), &pin_tool);
+        assert!(t < 1e-12 && r < 1e-12, "tool: {t} m, {r} rad");
+        let world_tool = robot
+            .world_from_tool(&RobotConfig { base, arm: q })
+            .unwrap();
+        let (t, r) = pose_error(&world_tool, &(world_from_base * pin_tool));
+        assert!(t < 1e-12 && r < 1e-12, "world tool: {t} m, {r} rad");
+    }
+    assert!(worst < 1e-12);
+}
+
+/// A two-joint toy arm, FK derived by hand.
+///
+/// Base → fixed mount at (0, 0, 0.5) → joint `j1` revolute about z at (0, 0, 0.1) → joint `j2`
+/// revolute about y at (0.3, 0, 0) → tool 0.2 along x. In the base frame the tool is at
+/// `(0, 0, 0.6) + Rz(q1)·[(0.3, 0, 0) + Ry(q2)·(0.2, 0, 0)]` with `Ry(q2)·(0.2, 0, 0) =
+/// (0.2 cos q2, 0, -0.2 sin q2)`. At q = (π/2, π/2): (0.3, 0, -0.2) turned by Rz(π/2) is
+/// (0, 0.3, -0.2), so the tool is at (0, 0.3, 0.4); its z axis is Rz(π/2)·Ry(π/2)·z =
+/// Rz(π/2)·x = y. With the base at (1, 2, π/2): (1, 2, 0) + Rz(π/2)·(0, 0.3, 0.4) =
+/// (0.7, 2, 0.4), z axis Rz(π/2)·y = -x.
+#[test]
+fn toy_arm_fk_matches_the_hand_derivation() {
+    let robot = RobotModel::from_urdf_str(TOY).unwrap();
+    assert_eq!(robot.dof(), 2);
+    assert_eq!(robot.name(), "toy");
+    assert!(
+        (robot.base_from_arm_root().translation.vector - Vector3::new(0.0, 0.0, 0.5)).norm()
+            < 1e-15
+    );
+    let q = DVector::from_vec(vec![FRAC_PI_2, FRAC_PI_2]);
+    let base_from_tool = robot.base_from_tool(&q).unwrap();
+    assert!((base_from_tool.translation.vector - Vector3::new(0.0, 0.3, 0.4)).norm() < 1e-12);
+    assert!((base_from_tool.rotation * Vector3::z() - Vector3::y()).norm() < 1e-12);
+    let world = robot
+        .world_from_tool(&RobotConfig {
+            base: [1.0, 2.0, FRAC_PI_2],
+            arm: q,
+        })
+        .unwrap();
+    assert!((world.translation.vector - Vector3::new(0.7, 2.0, 0.4)).norm() < 1e-12);
+    assert!((world.rotation * Vector3::z() + Vector3::x()).norm() < 1e-12);
+    // At q = 0 the tool is at (0.3 + 0.2, 0, 0.6) by the same formula.
+    let zero = robot.base_from_tool(&DVector::zeros(2)).unwrap();
+    assert!((zero.translation.vector - Vector3::new(0.5, 0.0, 0.6)).norm() < 1e-12);
+}
+
+const TOY: &str = r#"<robot name="toy">
+  <link name="base"><collision><origin xyz="0 0 0.25"/><geometry><box size="0.4 0.4 0.5"/></geometry></collision></link>
+  <link name="mount"/>
+  <joint name="mount_joint" type="fixed"><origin xyz="0 0 0.5"/><parent link="base"/><child link="mount"/></joint>
+  <link name="l1"><collision><origin xyz="0.15 0 0" rpy="0 1.5707963267948966 0"/><geometry><capsule radius="0.03" length="0.3"/></geometry></collision></link>
+  <joint name="j1" type="revolute"><origin xyz="0 0 0.1"/><parent link="mount"/><child link="l1"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" velocity="1"/></joint>
+  <link name="l2"><collision><origin xyz="0.1 0 0"/><geometry><sphere radius="0.03"/></geometry></collision></link>
+  <joint name="j2" type="revolute"><origin xyz="0.3 0 0"/><parent link="l1"/><child link="l2"/><axis xyz="0 1 0"/><limit lower="-2" upper="2" velocity="1.5"/></joint>
+  <link name="tool_frame"/>
+  <joint name="tool_joint" type="fixed"><origin xyz="0.2 0 0"/><parent link="l2"/><child link="tool_frame"/></joint>
+</robot>"#;
+
+#[test]
+fn configurations_are_validated() {
+    let robot = RobotModel::from_urdf_str(TOY).unwrap();
+    let short = RobotConfig {
+        base: [0.0; 3],
+        arm: DVector::zeros(3),
+    };
+    assert!(matches!(
+        robot.link_poses(&short),
+        Err(RobotError::DimensionMismatch {
+            expected: 2,
+            got: 3,
+            ..
+        })
+    ));
+    let nan = RobotConfig {
+        base: [0.0; 3],
+        arm: DVector::from_vec(vec![0.0, f64::NAN]),
+    };
+    assert!(matches!(
+        robot.world_from_tool(&nan),
+        Err(RobotError::NonFiniteValue {
+            what: "arm",
+            index: 1
+        })
+    ));
+    let bad_base = RobotConfig {
+        base: [0.0, f64::INFINITY, 0.0],
+        arm: DVector::zeros(2),
+    };
+    assert!(matches!(
+        robot.link_poses(&bad_base),
+        Err(RobotError::NonFiniteValue {
+            what: "base",
+            index: 1
+        })
+    ));
+    assert!(matches!(
+        robot
+            .clone()
+            .with_neutral(&DVector::from_vec(vec![0.0, 2.5])),
+        Err(RobotError::OutOfLimits { upper: 2.0, .. })
+    ));
+}
+
+// ---------------------------------------------------------------------------------------------
+// The shipped robot
+// ---------------------------------------------------------------------------------------------
+
+/// Every expected number below is transcribed from GEN3_URDF_V12.urdf in the PyPI package
+/// rtb-data 1.1.0 (rtbdata/xacro/kortex_description/arms/gen3/7dof/urdf/), independently of
+/// robots/kinova_gen3_mobile.urdf, unless stated otherwise.
+#[test]
+fn shipped_robot_matches_the_transcribed_numbers() {
+    let robot = RobotModel::kinova_gen3_mobile();
+    assert_eq!(robot.name(), "kinova_gen3_mobile");
+    assert_eq!(robot.dof(), 7);
+    assert_eq!(robot.links().len(), 8);
+    let names: Vec<&str> = robot.arm_joints().iter().map(|j| j.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "Actuator1",
+            "Actuator2",
+            "Actuator3",
+            "Actuator4",
+            "Actuator5",
+            "Actuator6",
+            "Actuator7"
+        ]
+    );
+    // Joints 1, 3, 5, 7 are `continuous`; 2, 4, 6 `revolute` with limits ±2.41, ±2.66, ±2.23.
+    let revolute = [(1, 2.41), (3, 2.66), (5, 2.23)];
+    for (i, joint) in robot.arm_joints().iter().enumerate() {
+        // <axis xyz="0 0 1"/> and <limit velocity="0.8727"/> for every actuator.
+        assert_eq!(joint.axis.into_inner(), Vector3::z());
+        assert_eq!(joint.max_velocity, 0.8727);
+        match revolute.iter().find(|(k, _)| *k == i) {
+            Some(&(_, limit)) => {
+                assert_eq!(joint.kind, ArmJointKind::Revolute);
+                assert_eq!((joint.lower, joint.upper), (-limit, limit));
+            }
+            None => {
+                assert_eq!(joint.kind, ArmJointKind::Continuous);
+                assert_eq!(
+                    (joint.lower, joint.upper),
+                    (f64::NEG_INFINITY, f64::INFINITY)
+                );
+            }
+        }
+        // The module docs' default for revolute joints (URDF 1.0 has no acceleration limit).
+        assert_eq!(joint.max_acceleration, 2.0);
+    }
+    // Joint origins (xyz) of Actuator1..7 in GEN3_URDF_V12.urdf.
+    let xyz = [
+        [0.0, 0.0, 0.15643],
+        [0.0, 0.005375, -0.12838],
+        [0.0, -0.21038, -0.006375],
+        [0.0, 0.006375, -0.21038],
+        [0.0, -0.20843, -0.006375],
+        [0.0, 0.00017505, -0.10593],
+        [0.0, -0.10593, -0.00017505],
+    ];
+    // Their rpy roll angles (pitch and yaw are below 1e-15 there): 3.1416, then ±1.5708.
+    // (Deliberately the file's rounded values, not π and π/2.)
+    #[allow(clippy::approx_constant)]
+    let roll = [3.1416, 1.5708, -1.5708, 1.5708, -1.5708, 1.5708, -1.5708];
+    for (i, joint) in robot.arm_joints().iter().enumerate() {
+        assert_eq!(
+            joint.parent_from_joint.translation.vector,
+            Vector3::from(xyz[i])
+        );
+        let expected = UnitQuaternion::from_euler_angles(roll[i], 0.0, 0.0);
+        assert!(joint.parent_from_joint.rotation.angle_to(&expected) < 1e-14);
+    }
+    // The mount (this project's choice, URDF header): the arm base 0.12 m forward, on the
+    // chassis top at 0.40 m.
+    assert_eq!(
+        robot.base_from_arm_root().translation.vector,
+        Vector3::new(0.12, 0.0, 0.40)
+    );
+    // Tool: the EndEffector fixed joint (0, 0, -0.061525) rpy (π, 0, 0) from the bracelet,
+    // then kortex_description's 2F-140 tool_frame 0.20 m along the flange z: in the bracelet
+    // frame (0, 0, -0.061525) + Rx(π)·(0, 0, 0.20) = (0, 0, -0.261525), tool z = -z.
+    let tool = robot.last_from_tool();
+    assert!((tool.translation.vector - Vector3::new(0.0, 0.0, -0.261525)).norm() < 1e-12);
+    assert!((tool.rotation * Vector3::z() + Vector3::z()).norm() < 1e-12);
+    // Pinocchio model: the tool frame is named "tool"; continuous joints are unbounded.
+    let model = robot.pinocchio();
+    assert_eq!(model.frame_index(TOOL_FRAME), Some(robot.tool_frame()));
+    let (lower, upper) = model.position_bounds();
+    assert_eq!((lower[1], upper[1]), (-2.41, 2.41));
+    assert_eq!((lower[0], upper[0]), (f64::NEG_INFINITY, f64::INFINITY));
+    assert!(model.velocity_limits().iter().all(|&v| v == 0.8727));
+    // Base: the module docs' defaults; footprint at least the chassis corner radius
+    // hypot(0.22, 0.18) = 0.2843 m, and the stowed arm inside 0.30 m (the task layer's default).
+    let base = robot.base();
+    assert_eq!(base.max_velocity, [0.5, 0.5, 1.0]);
+    assert_eq!(base.max_acceleration, [0.5, 0.5, 1.0]);
+    assert!(base.footprint_radius >= 0.22f64.hypot(0.18) - 1e-12);
+    assert!(base.footprint_radius <= 0.30, "{}", base.footprint_radius);
+    // Neutral lies within the limits.
+    let (lo, hi) = robot.arm_bounds();
+    let neutral = robot.neutral();
+    assert!((0..7).all(|i| lo[i] <= neutral[i] && neutral[i] <= hi[i]));
+}
+
+#[test]
+fn setters_validate_their_input() {
+    let robot = RobotModel::kinova_gen3_mobile();
+    let faster = robot
+        .clone()
+        .with_acceleration_limits(&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0])
+        .unwrap();
+    assert_eq!(faster.arm_joints()[6].max_acceleration, 7.0);
+    assert!(matches!(
+        robot.clone().with_acceleration_limits(&[1.0; 6]),
+        Err(RobotError::DimensionMismatch {
+            expected: 7,
+            got: 6,
+            ..
+        })
+    ));
+    assert!(matches!(
+        robot
+            .clone()
+            .with_acceleration_limits(&[1.0, 1.0, -1.0, 1.0, 1.0, 1.0, 1.0]),
+        Err(RobotError::NonPositiveLimit {
+            what: "acceleration",
+            ..
+        })
+    ));
+    let base = MobileBase {
+        max_velocity: [1.0, 0.2, 0.5],
+        ..robot.base().clone()
+    };
+    assert_eq!(robot.clone().with_base(base.clone()).unwrap().base(), &base);
+    let bad = MobileBase {
+        footprint_radius: f64::NAN,
+        ..base
+    };
+    assert!(matches!(
+        robot.with_base(bad),
+        Err(RobotError::InvalidSetting {
+            what: "footprint_radius",
+            ..
+        })
+    ));
+}
+
+// ---------------------------------------------------------------------------------------------
+// URDF conventions and bad input
+// ---------------------------------------------------------------------------------------------
+
+/// A robot with a `world` root, a planar joint to the base, a gripper finger joint off the arm
+/// chain (with velocity limit 0, which a frozen joint may have) and a tool link `tcp`.
+const WORLD_ROOTED: &str = r#"<robot name="w">
+  <link name="world"/>
+  <link name="base"/>
+  <joint name="base_motion" type="planar"><parent link="world"/><child link="base"/></joint>
+  <link name="l1"/>
+  <joint name="j1" type="continuous"><parent link="base"/><child link="l1"/><axis xyz="0 0 2"/><limit velocity="1"/></joint>
+  <link name="finger"><collision><origin xyz="0 0 0.1"/><geometry><box size="0.01 0.01 0.05"/></geometry></collision></link>
+  <joint name="finger_joint" type="prismatic"><origin xyz="0 0 0.2"/><parent link="l1"/><child link="finger"/><axis xyz="0 1 0"/><limit lower="0.01" upper="0.05" velocity="0"/></joint>
+  <link name="tcp"/>
+  <joint name="tcp_joint" type="fixed"><origin xyz="0.1 0 0"/><parent link="l1"/><child link="tcp"/></joint>
+</robot>"#;
+
+#[test]
+fn planar_root_and_gripper_joints_are_handled() {
+    let options = RobotImportOptions {
+        tool_link: "tcp".into(),
+    };
+    let robot = RobotModel::from_urdf_str_with(WORLD_ROOTED, &options).unwrap();
+    assert_eq!(robot.dof(), 1);
+    assert_eq!(robot.links()[0].name, "base");
+    assert_eq!(robot.arm_joints()[0].kind, ArmJointKind::Continuous);
+    // The axis (0, 0, 2) is normalised.
+    assert_eq!(robot.arm_joints()[0].axis.into_inner(), Vector3::z());
+    // The finger is frozen at 0 clamped into [0.01, 0.05], i.e. 0.01 along y, and merged into
+    // l1: its box sits at (0, 0.01, 0.2 + 0.1) in l1.
+    let finger = &robot.links()[1].colliders[0];
+    assert!(
+        (finger.part_from_shape.translation.vector - Vector3::new(0.0, 0.01, 0.3)).norm() < 1e-15
+    );
+    assert_eq!(
+        robot.last_from_tool().translation.vector,
+        Vector3::new(0.1, 0.0, 0.0)
+    );
+    // Without the option, `tool_frame` is missing.
+    assert!(matches!(
+        RobotModel::from_urdf_str(WORLD_ROOTED),
+        Err(RobotError::MissingToolLink { link }) if link == "tool_frame"
+    ));
+}
+
+/// The toy URDF with `from` replaced by `to` (which must occur).
+fn toy_with(from: &str, to: &str) -> String {
+    assert!(TOY.contains(from), "{from}");
+    TOY.replacen(from, to, 1)
+}
+
+#[test]
+fn bad_urdfs_give_typed_errors() {
+    let load = |text: &str| RobotModel::from_urdf_str(text).unwrap_err();
+    assert!(matches!(
+        load("<robot name=\"x\"><link"),
+        RobotError::Xml { .. }
+    ));
+    assert!(matches!(
+        load(&"<a>".repeat(10_000)),
+        RobotError::Xml { .. }
+    ));
+    // Every joint fixed: no arm.
+    assert!(matches!(
+        load(&toy_with(r#"name="j1" type="revolute""#, r#"name="j1" type="fixed""#)
+            .replacen(r#"name="j2" type="revolute""#, r#"name="j2" type="fixed""#, 1)),
+        RobotError::NoMovableJoint { base } if base == "base"
+    ));
+    // A second movable branch on the base.
+    let branch = TOY.replace(
+        "</robot>",
+        r#"<link name="side"/><joint name="side_joint" type="revolute"><parent link="base"/><child link="side"/><limit lower="0" upper="1" velocity="1"/></joint></robot>"#,
+    );
+    assert!(matches!(
+        load(&branch),
+        RobotError::BranchingChain { joint, link } if joint == "side_joint" && link == "base"
+    ));
+    assert!(matches!(
+        load(&toy_with(r#"<axis xyz="0 1 0"/>"#, r#"<axis xyz="0 0 0"/>"#)),
+        RobotError::InvalidAxis { joint, .. } if joint == "j2"
+    ));
+    assert!(matches!(
+        load(&toy_with(r#"<axis xyz="0 1 0"/>"#, r#"<axis xyz="0 NaN 0"/>"#)),
+        RobotError::InvalidAxis { joint, .. } if joint == "j2"
+    ));
+    assert!(matches!(
+        load(&toy_with(r#"lower="-2" upper="2""#, r#"lower="2" upper="-2""#)),
+        RobotError::InvalidLimits { joint, lower, upper } if joint == "j2" && lower == 2.0 && upper == -2.0
+    ));
+    assert!(matches!(
+        load(&toy_with(r#"<origin xyz="0.3 0 0"/>"#, r#"<origin xyz="0.3 NaN 0"/>"#)),
+        RobotError::NonFinite { what } if what.contains("j2")
+    ));
+    assert!(matches!(
+        load(&toy_with(r#"<origin xyz="0.2 0 0"/>"#, r#"<origin xyz="0.2 0 0" rpy="inf 0 0"/>"#)),
+        RobotError::NonFinite { what } if what.contains("tool_joint")
+    ));
+    assert!(matches!(
+        load(&toy_with(r#"<link name="tool_frame"/>"#, r#"<link name="tool"/>"#)
+            .replacen(r#"<child link="tool_frame"/>"#, r#"<child link="tool"/>"#, 1)),
+        RobotError::MissingToolLink { link } if link == "tool_frame"
+    ));
+    assert!(matches!(
+        load(&toy_with(r#"name="j2" type="revolute""#, r#"name="j2" type="spherical""#)),
+        RobotError::UnsupportedJointType { joint, kind } if joint == "j2" && kind == "spherical"
+    ));
+    // A planar joint is only accepted (and skipped) as the root link's only joint.
+    assert!(matches!(
+        load(&toy_with(r#"name="tool_joint" type="fixed""#, r#"name="tool_joint" type="planar""#)),
+        RobotError::UnsupportedJointType { joint, kind } if joint == "tool_joint" && kind == "planar"
+    ));
+    assert!(matches!(
+        load(&toy_with(r#"name="j2" type="revolute""#, r#"name="j2" type="floating""#)),
+        RobotError::UnsupportedJointType { joint, .. } if joint == "j2"
+    ));
+    assert!(matches!(
+        load(&toy_with(r#"velocity="1.5""#, r#"velocity="0""#)),
+        RobotError::NonPositiveLimit { joint, what: "velocity", .. } if joint == "j2"
+    ));
+    assert!(matches!(
+        load(&toy_with(r#"<sphere radius="0.03"/>"#, r#"<mesh filename="package://x/l2.stl"/>"#)),
+        RobotError::MeshCollision { link, filename } if link == "l2" && filename == "package://x/l2.stl"
+    ));
+    assert!(matches!(
+        load(&toy_with(r#"<sphere radius="0.03"/>"#, r#"<sphere radius="-0.03"/>"#)),
+        RobotError::InvalidShape { link, index: 0, .. } if link == "l2"
+    ));
+    assert!(matches!(
+        load(&toy_with(r#"<link name="l2">"#, r#"<link name="l1">"#)),
+        RobotError::DuplicateName { what: "link", name } if name == "l1"
+    ));
+    assert!(matches!(
+        load(&toy_with(r#"<child link="l2"/>"#, r#"<child link="l3"/>"#)),
+        RobotError::UnknownLink { joint, role: "child", link } if joint == "j2" && link == "l3"
+    ));
+    assert!(matches!(
+        load(&toy_with(
+            r#"<parent link="base"/>"#,
+            r#"<parent link="l1"/>"#
+        )),
+        RobotError::NotATree { .. }
+    ));
+    assert!(matches!(
+        RobotModel::from_urdf_file(std::path::Path::new("/nonexistent/robot.urdf")),
+        Err(RobotError::Io { .. })
+    ));
+}
+
+/// Edits of the shipped URDF: cut a byte range, or overwrite a range with a short string
+/// (numbers, signs, markup, NaN). Loading must return `Ok` or `Err`, never panic.
+fn mutated_urdf() -> impl Strategy<Value = String> {
+    let text = include_str!("../../robots/kinova_gen3_mobile.urdf");
+    let n = text.len();
+    let replacement = prop_oneof![
+        Just(String::new()),
+        Just("NaN".to_string()),
+        Just("-1e308".to_string()),
+        Just("0".to_string()),
+        Just("\"".to_string()),
+        Just("<".to_string()),
+        Just("/>".to_string()),
+        Just("</link>".to_string()),
+        "[-0-9. e]{1,8}",
+        "[a-z_<>/=\" ]{1,12}",
+    ];
+    (0..n, 0usize..40, replacement, 1usize..4).prop_map(move |(at, len, with, times)| {
+        let mut s = text.to_string();
+        for k in 0..times {
+            let start = (at + k * 997) % s.len();
+            let mut end = (start + len).min(s.len());
+            let mut start = start;
+            while !s.is_char_boundary(start) {
+                start -= 1;
+            }
+            while !s.is_char_boundary(end) {
+                end += 1;
+            }
+            s.replace_range(start..end, &with);
+        }
+        s
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    #[test]
+    fn mutated_urdfs_never_panic(text in mutated_urdf()) {
+        let loaded = RobotModel::from_urdf_str(&text);
+        if let Ok(robot) = loaded {
+            // A loaded robot is usable: FK at neutral and a collision model.
+            let config = RobotConfig { base: [0.0; 3], arm: robot.neutral() };
+            prop_assert!(robot.link_poses(&config).is_ok());
+            let _ = RobotCollision::new(&robot);
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Collision
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn neutral_is_free_and_only_adjacent_links_are_exempt() {
+    let robot = RobotModel::kinova_gen3_mobile();
+    let collision = RobotCollision::new(&robot).unwrap();
+    // Stronger than "no self-collision at neutral" (which holds by construction for pairs
+    // touching there): no non-adjacent pair touches at neutral, so all are checked.
+    let adjacent: Vec<(usize, usize)> = (0..robot.dof()).map(|i| (i, i + 1)).collect();
+    assert_eq!(collision.allowed_pairs(), adjacent.as_slice());
+    assert_eq!(collision.base_links(), &[0]);
+    let poses = robot
+        .link_poses(&RobotConfig {
+            base: [3.0, -1.0, 2.0],
+            arm: robot.neutral(),
+        })
+        .unwrap();
+    assert_eq!(collision.self_collision(&poses), None);
+}
+
+/// Folding the arm back and down (q2 = -2.1, q4 = -1.55) puts the wrist into the chassis. The
+/// origin of link 6 (SphericalWrist2, the frame of Actuator6) is an end point of the segment
+/// its capsule is built around, hence inside that capsule; when it is also inside the chassis
+/// box, the two shapes overlap, so the pair (0, 6) — not adjacent, hence checked (see the
+/// allowed pairs above) — collides, and it or an earlier checked pair must be reported.
+#[test]
+fn arm_folded_into_the_base_is_a_self_collision() {
+    let robot = RobotModel::kinova_gen3_mobile();
+    let collision = RobotCollision::new(&robot).unwrap();
+    let arm = DVector::from_vec(vec![0.0, -2.1, 0.0, -1.55, 0.0, 0.0, 0.0]);
+    let poses = robot
+        .link_poses(&RobotConfig {
+            base: [0.0; 3],
+            arm,
+        })
+        .unwrap();
+    // The chassis box: |x| <= 0.22, |y| <= 0.18, 0.03 <= z <= 0.40 (URDF header).
+    let p = poses[6].translation.vector;
+    assert!(
+        p.x.abs() < 0.22 && p.y.abs() < 0.18 && p.z > 0.03 && p.z < 0.40,
+        "the wrist is not inside the chassis: {p:?}"
+    );
+    // Pairs are reported in lexicographic order, so the answer is (0, j) with 2 <= j <= 6.
+    let hit = collision.self_collision(&poses);
+    assert!(
+        matches!(hit, Some((0, j)) if (2..=6).contains(&j)),
+        "{hit:?}"
+    );
+    // The same fold seen from anywhere in the world.
+    let moved = robot
+        .link_poses(&RobotConfig {
+            base: [2.0, -3.0, 1.0],
+            arm: DVector::from_vec(vec![0.0, -2.1, 0.0, -1.55, 0.0, 0.0, 0.0]),
+        })
+        .unwrap();
+    assert_eq!(collision.self_collision(&moved), hit);
+}
+
+#[test]
+fn models_are_send_and_sync() {
+    fn shareable<T: Send + Sync + Clone>() {}
+    shareable::<RobotModel>();
+    shareable::<RobotCollision>();
+}
+
+/// A scene with one part `cube`, a box of the given half extents whose frame is
+/// `world_from_cube` (prismatic joint, at value 0), and with `wall`, a wall on the base map at
+/// x in [0.23, 0.33] (|y| <= 3, z in [0, 2]): 10 mm in front of the chassis of a robot at the
+/// origin.
+fn box_scene(
+    world_from_cube: Isometry3<f64>,
+    half_extents: Vector3<f64>,
+    wall: bool,
+) -> SceneModel {
+    let mut b = SceneModelBuilder::new();
+    b.add_part(
+        PartSpec::on_base(
+            "cube",
+            Joint::new(
+                "cube_slide",
+                JointKind::Prismatic,
+                world_from_cube,
+                Vector3::x(),
+                Limits::new(0.0, 0.1),
+            ),
+        )
+        .with_collider(Shape::cuboid(half_extents), Isometry3::identity()),
+    );
+    if wall {
+        b.add_base_shape(BaseShape::new(
+            "wall",
+            Shape::cuboid(Vector3::new(0.05, 3.0, 1.0)),
+            Isometry3::translation(0.28, 0.0, 1.0),
+        ));
+    }
+    b.build().unwrap()
+}
+
+/// The scene's part poses at the zero state.
+fn scene_data(model: &SceneModel) -> SceneData {
+    let mut data = SceneData::new(model);
+    let state = State::from_slice(model, &vec![0.0; model.nq()]).unwrap();
+    scene_fk(model, &mut data, &state).unwrap();
+    data
+}
+
+#[test]
+fn scene_collisions_are_found_and_ignored_parts_skipped() {
+    let robot = RobotModel::kinova_gen3_mobile();
+    let collision = RobotCollision::new(&robot).unwrap();
+    // The arm stretched straight up (q = 0, free of self-collision): the gripper is far from
+    // every other link, so a cube at the tool can only be reached by link 7.
+    let up = RobotConfig {
+        base: [0.0; 3],
+        arm: DVector::zeros(7),
+    };
+    let poses = robot.link_poses(&up).unwrap();
+    assert_eq!(collision.self_collision(&poses), None);
+    let world_from_tool = robot.world_from_tool(&up).unwrap();
+    assert!(world_from_tool.translation.z > 1.5);
+
+    // A 0.15 × 0.02 × 0.02 m box at the tool frame: it spans |x| <= 0.075 between the fingers,
+    // whose inner faces are at |x| = 0.07 (URDF header), and z in [0.19, 0.21] in the flange
+    // frame, inside the fingers' [0.11, 0.23]: it overlaps both fingers.
+    let model = box_scene(world_from_tool, Vector3::new(0.075, 0.01, 0.01), true);
+    let cube = model.part_id("cube").unwrap();
+    let wall = model.base_shape_id("wall").unwrap();
+    let data = scene_data(&model);
+    // The wall is 10 mm from the chassis: clear at margin 5 mm; the box ignored.
+    assert_eq!(
+        collision.scene_collision(&poses, &model, &data, &[cube], 0.005),
+        None
+    );
+    // Not ignored, the box touches the gripper, on the last link.
+    assert_eq!(
+        collision.scene_collision(&poses, &model, &data, &[], 0.005),
+        Some((7, Body::Part(cube)))
+    );
+    // At margin 20 mm the wall is in reach of the chassis; link 0 comes first.
+    assert_eq!(
+        collision.scene_collision(&poses, &model, &data, &[cube], 0.02),
+        Some((0, Body::Base(wall)))
+    );
+    // At neutral (stowed arm, behind x = 0.17: the shoulder capsule, radius 0.05 about
+    // x = 0.12) the same holds, and 1 m further back (-x) the robot is clear of everything.
+    let stowed = robot
+        .link_poses(&RobotConfig {
+            base: [0.0; 3],
+            arm: robot.neutral(),
+        })
+        .unwrap();
+    assert_eq!(
+        collision.scene_collision(&stowed, &model, &data, &[], 0.005),
+        None
+    );
+    assert_eq!(
+        collision.scene_collision(&stowed, &model, &data, &[], 0.02),
+        Some((0, Body::Base(wall)))
+    );
+    let back = robot
+        .link_poses(&RobotConfig {
+            base: [-1.0, 0.0, 0.0],
+            arm: robot.neutral(),
+        })
+        .unwrap();
+    assert_eq!(
+        collision.scene_collision(&back, &model, &data, &[], 0.02),
+        None
+    );
+
+    // A 20 mm cube at the tool: 0.06 m from the inner finger faces (0.07 - 0.01) and 0.08 m
+    // from the gripper body (0.19 - 0.11), so its clearance is 0.06 m: clear at margin 0.05,
+    // hit at margin 0.07.
+    let model = box_scene(world_from_tool, Vector3::repeat(0.01), false);
+    let cube = model.part_id("cube").unwrap();
+    let data = scene_data(&model);
+    assert_eq!(
+        collision.scene_collision(&poses, &model, &data, &[], 0.05),
+        None
+    );
+    assert_eq!(
+        collision.scene_collision(&poses, &model, &data, &[], 0.07),
+        Some((7, Body::Part(cube)))
+    );
+}
