@@ -5,6 +5,8 @@
 #                     coq (8.16, checks proofs/)
 #   Python wheels   : pinned in scripts/requirements.txt, into the project-local venv .deps/venv
 #                     (libpinocchio + cmeel prefix, casadi + IPOPT plugin)
+#   With --bench      : the IK bench's baseline (pink, pin, qpsolvers, Clarabel), pinned in
+#                     scripts/bench-requirements.txt, into .deps/bench-venv
 #
 # Re-running it does nothing when everything is in place. Nothing outside .deps/ and the
 # Debian packages is touched; build scripts find .deps/ on their own (no exports needed).
@@ -41,4 +43,25 @@ if ! cmp -s scripts/requirements.txt "$stamp"; then
     "$venv/bin/pip" install --quiet --disable-pip-version-check --no-deps -r scripts/requirements.txt
     cp scripts/requirements.txt "$stamp"
 fi
+# --- IK bench baseline (benches/ik.rs) ------------------------------------------------------
+# pink (Python Pinocchio + QP IK), Pinocchio's Python bindings and qpsolvers/Clarabel, pinned in
+# scripts/bench-requirements.txt, in their own venv .deps/bench-venv: apart from .deps/venv,
+# whose libpinocchio wheel the build compiles against. Optional: if the install fails, the IK
+# bench reports kinscene's figures and says why pink did not run. Only with `--bench` (the
+# README's bench command): building and testing never need it.
+if [ "${1:-}" = "--bench" ] && [ "${KINSCENE_SKIP_BENCH_VENV:-0}" != 1 ]; then
+    bench_venv="$root/.deps/bench-venv"
+    bench_stamp="$bench_venv/.kinscene-requirements"
+    if ! cmp -s scripts/bench-requirements.txt "$bench_stamp"; then
+        log "installing the IK bench baseline (scripts/bench-requirements.txt) into $bench_venv"
+        if { [ -x "$bench_venv/bin/python" ] || python3 -m venv "$bench_venv"; } &&
+            "$bench_venv/bin/pip" install --quiet --disable-pip-version-check \
+                -r scripts/bench-requirements.txt; then
+            cp scripts/bench-requirements.txt "$bench_stamp"
+        else
+            log "warning: bench venv not installed; benches/ik.rs will run without pink"
+        fi
+    fi
+fi
+# --- end IK bench baseline -------------------------------------------------------------------
 log "ready (OMPL from Debian, Pinocchio and CasADi from $venv)"

@@ -1,0 +1,172 @@
+//! IK targets and the task error (residual and its Jacobian) each step minimises.
+
+use nalgebra::{DMatrix, DVector, Isometry3, Point3, Unit, Vector3};
+
+use super::IkError;
+
+/// Largest accepted `|‖axis‖ − 1|` of a target axis and `|‖quaternion‖ − 1|` of a target
+/// rotation: what `Unit::new_normalize` produces is within ~1e-16, so anything beyond 1e-9 was
+/// built unchecked from a non-unit value.
+const UNIT_TOLERANCE: f64 = 1e-9;
+
+/// What the tool frame must reach, in the model's root frame (for a robot, the base frame).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum IkTarget {
+    /// The full pose `root_from_tool` (6 constraints).
+    Pose(Isometry3<f64>),
+    /// Tool origin at `position` with the tool +z axis pointing along `axis` (same direction,
+    /// not opposite); the rotation about the axis is free (5 constraints). For grasps whose
+    /// roll about the approach direction does not matter.
+    PositionAxis {
+        /// Tool origin (m, root frame).
+        position: Point3<f64>,
+        /// Direction of tool +z (root frame).
+        axis: Unit<Vector3<f64>>,
+    },
+}
+
+impl IkTarget {
+    /// Number of task rows: 6 for a pose, 5 for a position + axis.
+    pub fn rows(&self) -> usize {
+        match self {
+            IkTarget::Pose(_) => 6,
+            IkTarget::PositionAxis { .. } => 5,
+        }
+    }
+
+    /// Position and rotation error (m, rad) of the tool pose `root_from_tool` with respect to
+    /// this target, as the convergence test measures them (see
+    /// [`crate::kinematics::ik::IkSettings::rotation_tolerance`]).
+    pub fn errors(&self, root_from_tool: &Isometry3<f64>) -> (f64, f64) {
+        let p = root_from_tool.translation.vector;
+        match self {
+            IkTarget::Pose(target) => (
+                (target.translation.vector - p).norm(),
+                (target.rotation * root_from_tool.rotation.inverse()).angle(),
+            ),
+            IkTarget::PositionAxis { position, axis } => {
+                let z = root_from_tool.rotation * Vector3::z();
+                ((position.coords - p).norm(), angle_between(&z, axis))
+            }
+        }
+    }
+
+    /// `Err` unless the target is finite and its rotation or axis is unit length.
+    pub(crate) fn validate(&self) -> Result<(), IkError> {
+        match self {
+            IkTarget::Pose(pose) => {
+                if !pose.translation.vector.iter().all(|c| c.is_finite()) {
+                    return Err(IkError::NonFinite {
+                        what: "target position",
+                    });
+                }
+                let quaternion = pose.rotation.as_ref().coords;
+                if !quaternion.iter().all(|c| c.is_finite()) {
+                    return Err(IkError::NonFinite {
+                        what: "target rotation",
+                    });
+                }
+                let norm = quaternion.norm();
+                if (norm - 1.0).abs() > UNIT_TOLERANCE {
+                    return Err(IkError::NonUnitRotation { norm });
+                }
+            }
+            IkTarget::PositionAxis { position, axis } => {
+                if !position.coords.iter().all(|c| c.is_finite()) {
+                    return Err(IkError::NonFinite {
+                        what: "target position",
+                    });
+                }
+                if !axis.iter().all(|c| c.is_finite()) {
+                    return Err(IkError::NonFinite {
+                        what: "target axis",
+                    });
+                }
+                let norm = axis.norm();
+                if (norm - 1.0).abs() > UNIT_TOLERANCE {
+                    return Err(IkError::NonUnitAxis { norm });
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The residual `e` (m, rad) and task Jacobian `J` (rows × nv) of one step: the step QP
+/// minimises `½‖J dq − e‖² + ...`.
+#[derive(Debug)]
+pub(crate) struct Task {
+    pub residual: DVector<f64>,
+    pub jacobian: DMatrix<f64>,
+    pub position_error: f64,
+    pub rotation_error: f64,
+}
+
+/// The task at tool pose `root_from_tool`, whose frame Jacobian (6 × nv, Pinocchio's
+/// `LOCAL_WORLD_ALIGNED`: tool-origin velocity and angular velocity, both in root axes) is
+/// `jacobian`.
+///
+/// - Pose: `e = [p* − p; log(R* Rᵀ)]`, the rotation error as a rotation vector in root axes,
+///   so that a rotation by `ω = e_rot` takes R to R* (first order, matching the angular rows).
+/// - Position + axis: `e = [p* − p; θ; 0]` with rows `[J_v; u₁ᵀ J_ω; u₂ᵀ J_ω]`, where z is the
+///   current tool +z, θ the angle from z to the target axis a, `u₁ = (z × a)/‖z × a‖` (any unit
+///   vector ⊥ z when z ∥ a) and `u₂ = z × u₁`. Rotating by `θ u₁` takes z onto a; the two rows
+///   constrain the angular velocity orthogonal to z only, so the roll about the tool axis is
+///   free. This is the 5-D error "position and the components of z × a orthogonal to z".
+pub(crate) fn task(
+    target: &IkTarget,
+    root_from_tool: &Isometry3<f64>,
+    jacobian: &DMatrix<f64>,
+) -> Task {
+    let nv = jacobian.ncols();
+    let p = root_from_tool.translation.vector;
+    let mut residual = DVector::zeros(target.rows());
+    let mut rows = DMatrix::zeros(target.rows(), nv);
+    rows.rows_mut(0, 3).copy_from(&jacobian.rows(0, 3));
+    let (position_error, rotation_error) = match target {
+        IkTarget::Pose(pose) => {
+            let dp = pose.translation.vector - p;
+            let rotation = (pose.rotation * root_from_tool.rotation.inverse()).scaled_axis();
+            residual.rows_mut(0, 3).copy_from(&dp);
+            residual.rows_mut(3, 3).copy_from(&rotation);
+            rows.rows_mut(3, 3).copy_from(&jacobian.rows(3, 3));
+            (dp.norm(), rotation.norm())
+        }
+        IkTarget::PositionAxis { position, axis } => {
+            let dp = position.coords - p;
+            let z = root_from_tool.rotation * Vector3::z();
+            let theta = angle_between(&z, axis);
+            let u1 = Unit::try_new(z.cross(axis), 1e-12)
+                .unwrap_or_else(|| perpendicular(&z))
+                .into_inner();
+            let u2 = z.cross(&u1);
+            residual.rows_mut(0, 3).copy_from(&dp);
+            residual[3] = theta;
+            let angular = jacobian.rows(3, 3);
+            rows.row_mut(3).copy_from(&(u1.transpose() * angular));
+            rows.row_mut(4).copy_from(&(u2.transpose() * angular));
+            (dp.norm(), theta)
+        }
+    };
+    Task {
+        residual,
+        jacobian: rows,
+        position_error,
+        rotation_error,
+    }
+}
+
+/// Angle between two unit vectors (rad), accurate near 0 and π.
+fn angle_between(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
+    a.cross(b).norm().atan2(a.dot(b))
+}
+
+/// Some unit vector orthogonal to the unit vector `z`.
+fn perpendicular(z: &Vector3<f64>) -> Unit<Vector3<f64>> {
+    let helper = if z.x.abs() < 0.9 {
+        Vector3::x()
+    } else {
+        Vector3::y()
+    };
+    Unit::new_normalize(z.cross(&helper))
+}
