@@ -1,0 +1,41 @@
+//! Articulation estimation: a part's joint (type, axis, pivot) from observations of its motion.
+//!
+//! One exploratory interaction ([`Interaction`]: pre/post point clouds, contact points, the
+//! end-effector poses recorded while pulling) goes into an [`ArticulationEstimator`], which
+//! returns an [`Estimate`]: a [`JointEstimate`] (revolute, prismatic, or unknown with the reason),
+//! the moving part's segmentation and points, a score and model-selection details.
+//!
+//! - [`TwoView`]: segment the moving part from the two clouds, register it rigidly (robust ICP
+//!   with closed-form Kabsch steps), decompose the motion into a screw and select the joint type
+//!   by BIC.
+//! - [`Proprioceptive`]: fit prismatic (line) and rotational (circle) models to the end-effector
+//!   poses with MLESAC and select by BIC (Sturm, Stachniss, Burgard 2011).
+//! - A learned estimator (the paper's DiTH network) implements [`ArticulationEstimator`] from
+//!   outside the crate.
+//!
+//! [`metrics`] holds the DiTH error metrics; [`synthetic`] renders depth observations of box
+//! scenes for tests, benchmarks and simulation. Pure Rust; imports only point down to the scene
+//! layer.
+
+mod cloud;
+mod error;
+mod estimate;
+mod icp;
+mod kdtree;
+pub mod metrics;
+mod pose_circle;
+mod proprioceptive;
+mod screw;
+pub mod synthetic;
+mod two_view;
+mod visibility;
+
+pub use cloud::PointCloud;
+pub use error::{ArticulationError, InputKind};
+pub use estimate::{
+    ArticulationEstimator, Estimate, Interaction, JointEstimate, JointKindEstimate,
+};
+pub use metrics::{axis_angle_error, axis_position_error, joint_type_accuracy};
+pub use proprioceptive::{Proprioceptive, ProprioceptiveSettings};
+pub use screw::Screw;
+pub use two_view::{TwoView, TwoViewSettings};
