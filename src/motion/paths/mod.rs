@@ -1,0 +1,148 @@
+//! Base paths in SE(2) and arm paths in joint space with OMPL, and an independent dense
+//! re-check of any path.
+//!
+//! A thin layer over [`kinscene_ompl`]: [`plan_base`] plans a planar pose `[x, y, yaw]` in a
+//! box of the floor (yaw free, wrapping), [`plan_arm`] plans joint values in a box (continuous
+//! joints get a finite window, see [`CONTINUOUS_JOINT_WINDOW`]). Validity is a Rust closure
+//! the caller gives (the robot's collision check); the planner, the motion validator, the
+//! simplifier are OMPL's. Bad input is a [`PathError`]; not finding a path is a
+//! [`PathOutcome`].
+//!
+//! [`first_invalid`] re-checks a returned path with code that shares nothing with OMPL's motion
+//! validator: every segment is sampled at a fixed spacing and handed to the closure.
+//!
+//! # Path conventions
+//! Consecutive states are joined by straight lines in the coordinates; for the base, yaw is
+//! *unwrapped* along the path (the first state is `start` exactly and consecutive yaws differ
+//! by at most π), so the straight line between two states is the shortest-angle SE(2)
+//! interpolation OMPL checked. The last state equals `goal` up to OMPL's goal tolerance
+//! (1e-6) and, for the base, a multiple of 2π in yaw.
+//!
+//! # Example
+//! ```
+//! use std::time::Duration;
+//! use kinscene::motion::paths::{PathOutcome, PathSettings, first_invalid, plan_base};
+//!
+//! // A 4 m × 4 m room with a wall x ∈ [1.9, 2.1], y ≤ 3; a disc base of radius 0.2 m.
+//! let free = |q: &[f64; 3]| {
+//!     let dx = (1.9 - q[0]).max(q[0] - 2.1).max(0.0);
+//!     let dy = (q[1] - 3.0).max(0.0);
+//!     dx.hypot(dy) > 0.2
+//! };
+//! let settings = PathSettings { seed: Some(7), ..PathSettings::default() };
+//! let outcome = plan_base([1.0, 1.0, 0.0], [3.0, 1.0, 1.5], ([0.0, 0.0], [4.0, 4.0]),
+//!                         &free, &settings, None)?;
+//! let PathOutcome::Found(path) = outcome else { panic!("{outcome:?}") };
+//! assert_eq!(path[0], vec![1.0, 1.0, 0.0]);
+//! // Independent re-check at a fifth of the planner's spacing.
+//! let free_slice = |q: &[f64]| free(&[q[0], q[1], q[2]]);
+//! assert_eq!(first_invalid(&path, settings.resolution / 5.0, true, &free_slice), None);
+//! # Ok::<(), kinscene::motion::paths::PathError>(())
+//! ```
+
+mod error;
+mod plan;
+mod recheck;
+
+use std::time::Duration;
+
+pub use error::PathError;
+pub use kinscene_ompl::Planner;
+pub use plan::{CONTINUOUS_JOINT_WINDOW, plan_arm, plan_base};
+pub use recheck::first_invalid;
+
+/// How to plan a path.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PathSettings {
+    /// The OMPL planner. Default RRTConnect.
+    pub planner: Planner,
+    /// Wall-clock budget for planning and simplification together. Default 1 s.
+    pub budget: Duration,
+    /// Validity-check spacing along motions, in the space's distance (SE(2): metres plus
+    /// half the yaw difference in radians, OMPL's weighting; joint space: the Euclidean norm,
+    /// radians or metres). Handed to OMPL as the fraction `resolution / maximum extent` of the
+    /// space (capped at 0.5). Default 0.01. An obstacle thinner than this may be jumped over:
+    /// the validity closure should keep a clearance margin that covers it.
+    pub resolution: f64,
+    /// Shorten and smooth the path with OMPL's `PathSimplifier` (within the budget). Default
+    /// true.
+    pub simplify: bool,
+    /// Seed for OMPL's random generator: with a seed, the same call gives the same path
+    /// (given a deterministic validity closure and a planner that stops before its budget).
+    /// Seeded calls are serialised process-wide and no other [`plan_base`]/[`plan_arm`] call
+    /// runs meanwhile (OMPL has one global generator); direct `kinscene_ompl` calls from other
+    /// threads would break the determinism. Default `None`: OMPL's own seeding.
+    pub seed: Option<u64>,
+}
+
+impl Default for PathSettings {
+    fn default() -> Self {
+        PathSettings {
+            planner: Planner::RrtConnect,
+            budget: Duration::from_secs(1),
+            resolution: 0.01,
+            simplify: true,
+            seed: None,
+        }
+    }
+}
+
+impl PathSettings {
+    /// Checks the budget (positive) and the resolution (positive, finite).
+    ///
+    /// # Errors
+    /// [`PathError::InvalidSetting`].
+    pub fn validate(&self) -> Result<(), PathError> {
+        if self.budget.is_zero() {
+            return Err(PathError::InvalidSetting {
+                name: "budget",
+                value: 0.0,
+                requirement: "positive",
+            });
+        }
+        if !(self.resolution.is_finite() && self.resolution > 0.0) {
+            return Err(PathError::InvalidSetting {
+                name: "resolution",
+                value: self.resolution,
+                requirement: "finite and > 0",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// How planning ended.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PathOutcome {
+    /// A collision-free path from start to goal (see the module's path conventions).
+    Found(Vec<Vec<f64>>),
+    /// No path, for a reason other than the ones below: an approximate solution only (with
+    /// its distance to the goal), or the planner gave up or crashed.
+    NotFound {
+        /// What OMPL reported, in words.
+        reason: String,
+    },
+    /// The validity closure rejects the start.
+    InvalidStart,
+    /// The goal is outside the bounds or the validity closure rejects it.
+    InvalidGoal,
+    /// The budget ran out before any path was found.
+    Timeout,
+    /// The cancel flag stopped planning.
+    Cancelled,
+}
+
+impl PathOutcome {
+    /// The path, if one was found.
+    pub fn path(&self) -> Option<&[Vec<f64>]> {
+        match self {
+            PathOutcome::Found(path) => Some(path),
+            _ => None,
+        }
+    }
+
+    /// True for [`PathOutcome::Found`].
+    pub fn is_found(&self) -> bool {
+        matches!(self, PathOutcome::Found(_))
+    }
+}

@@ -1,0 +1,286 @@
+//! The two planning entry points: input checks, the OMPL call, status mapping.
+
+use std::f64::consts::PI;
+use std::sync::RwLock;
+use std::sync::atomic::AtomicBool;
+
+use kinscene_ompl::{
+    PlanOutcome, PlanSettings, PlanStatus, Problem, StateSpace, StateValidityChecker, Termination,
+};
+
+use super::{PathError, PathOutcome, PathSettings};
+
+/// Half-width (rad) of the window a continuous joint (infinite bounds) is planned in: the
+/// joint is bounded to `[min(start, goal) − W, max(start, goal) + W]`, one half turn of slack
+/// on either side of the straight motion, so the planner can detour around an obstacle in
+/// either direction. The goal value is kept as given (no 2π unwrapping): callers who want the
+/// shorter way round should pass the goal representative nearest to the start.
+pub const CONTINUOUS_JOINT_WINDOW: f64 = PI;
+
+/// Serialises seeded plans (write lock) against every other plan of this module (read lock):
+/// OMPL draws every sampler's seed from one process-wide generator.
+static OMPL_RNG: RwLock<()> = RwLock::new(());
+
+/// Plans a base path in SE(2) from `start` to `goal` (`[x, y, yaw]`, metres and radians).
+///
+/// `bounds` = `([x_min, y_min], [x_max, y_max])` bounds x and y; yaw is free and wraps. The
+/// closure `valid` sees states with yaw in `[-π, π]`. `cancel`, when set (by another thread),
+/// stops planning with [`PathOutcome::Cancelled`].
+///
+/// The returned path follows the module's conventions: yaw unwrapped from `start[2]`. A goal
+/// outside the bounds is [`PathOutcome::InvalidGoal`], as in OMPL.
+///
+/// # Errors
+/// [`PathError::NonFinite`] for NaN or infinite coordinates or bounds,
+/// [`PathError::InvalidBounds`], [`PathError::StartOutOfBounds`],
+/// [`PathError::InvalidSetting`] (see [`PathSettings::validate`]), and [`PathError::Ompl`]
+/// when the backend cannot be loaded or throws.
+pub fn plan_base(
+    start: [f64; 3],
+    goal: [f64; 3],
+    bounds: ([f64; 2], [f64; 2]),
+    valid: &(dyn Fn(&[f64; 3]) -> bool + Sync),
+    settings: &PathSettings,
+    cancel: Option<&AtomicBool>,
+) -> Result<PathOutcome, PathError> {
+    settings.validate()?;
+    let (lower, upper) = bounds;
+    check_finite("xy bounds", lower.iter().chain(&upper))?;
+    check_finite("start", &start)?;
+    check_finite("goal", &goal)?;
+    check_bounds(&lower, &upper)?;
+    check_start(&start[..2], &lower, &upper)?;
+
+    let space = StateSpace::Se2 {
+        x: [lower[0], upper[0]],
+        y: [lower[1], upper[1]],
+    };
+    let extent = (upper[0] - lower[0]).hypot(upper[1] - lower[1]) + 0.5 * PI;
+    let checker = |q: &[f64]| q.len() == 3 && valid(&[q[0], q[1], q[2]]);
+    let problem = Problem::new(space, start.to_vec(), goal.to_vec());
+    let outcome = run(&problem, &checker, extent, settings, cancel)?;
+    Ok(match outcome {
+        PathOutcome::Found(mut path) => {
+            unwrap_yaw(&mut path, &start);
+            PathOutcome::Found(path)
+        }
+        other => other,
+    })
+}
+
+/// Plans an arm path in joint space from `start` to `goal` within `lower ≤ q ≤ upper`.
+///
+/// An infinite bound (a continuous joint, ±∞) is replaced by a finite window around the start
+/// and goal values, see [`CONTINUOUS_JOINT_WINDOW`]. The closure `valid` sees states inside
+/// the (windowed) bounds. A goal outside the bounds is [`PathOutcome::InvalidGoal`], as in
+/// OMPL. The returned path's first state is `start`.
+///
+/// # Errors
+/// [`PathError::ZeroDimension`], [`PathError::DimensionMismatch`] (goal and bounds against
+/// start), [`PathError::NonFinite`] (NaN anywhere, an infinite start or goal),
+/// [`PathError::InvalidBounds`] (lower > upper, lower = +∞ or upper = −∞),
+/// [`PathError::StartOutOfBounds`], [`PathError::InvalidSetting`], [`PathError::Ompl`].
+pub fn plan_arm(
+    start: &[f64],
+    goal: &[f64],
+    lower: &[f64],
+    upper: &[f64],
+    valid: &(dyn Fn(&[f64]) -> bool + Sync),
+    settings: &PathSettings,
+    cancel: Option<&AtomicBool>,
+) -> Result<PathOutcome, PathError> {
+    settings.validate()?;
+    let dim = start.len();
+    if dim == 0 {
+        return Err(PathError::ZeroDimension);
+    }
+    for (what, v) in [
+        ("goal", goal),
+        ("lower bounds", lower),
+        ("upper bounds", upper),
+    ] {
+        if v.len() != dim {
+            return Err(PathError::DimensionMismatch {
+                what,
+                expected: dim,
+                got: v.len(),
+            });
+        }
+    }
+    check_finite("start", start)?;
+    check_finite("goal", goal)?;
+    for (what, v) in [("lower bounds", lower), ("upper bounds", upper)] {
+        if let Some(index) = v.iter().position(|x| x.is_nan()) {
+            return Err(PathError::NonFinite {
+                what,
+                index,
+                value: v[index],
+            });
+        }
+    }
+    check_bounds(lower, upper)?;
+    check_start(start, lower, upper)?;
+
+    // Continuous joints: a finite window around the start and goal values.
+    let window_lower: Vec<f64> = (0..dim)
+        .map(|i| match lower[i] {
+            l if l.is_finite() => l,
+            _ => start[i].min(goal[i]) - CONTINUOUS_JOINT_WINDOW,
+        })
+        .collect();
+    let window_upper: Vec<f64> = (0..dim)
+        .map(|i| match upper[i] {
+            u if u.is_finite() => u,
+            _ => start[i].max(goal[i]) + CONTINUOUS_JOINT_WINDOW,
+        })
+        .collect();
+    let extent = window_lower
+        .iter()
+        .zip(&window_upper)
+        .map(|(l, u)| (u - l).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    let space = StateSpace::RealVector {
+        lower: window_lower,
+        upper: window_upper,
+    };
+    let checker = |q: &[f64]| valid(q);
+    let problem = Problem::new(space, start.to_vec(), goal.to_vec());
+    let outcome = run(&problem, &checker, extent, settings, cancel)?;
+    Ok(match outcome {
+        PathOutcome::Found(mut path) => {
+            // OMPL copies the start's values; make that exact whatever the shim does.
+            path[0].copy_from_slice(start);
+            PathOutcome::Found(path)
+        }
+        other => other,
+    })
+}
+
+/// The OMPL call (seeded or not) and the status mapping.
+fn run<C: StateValidityChecker>(
+    problem: &Problem,
+    checker: &C,
+    extent: f64,
+    settings: &PathSettings,
+    cancel: Option<&AtomicBool>,
+) -> Result<PathOutcome, PathError> {
+    // OMPL checks motions every `fraction × extent`; it rejects fractions outside (ε, 1 − ε).
+    let fraction = (settings.resolution / extent).min(0.5);
+    if fraction < f64::EPSILON {
+        return Err(PathError::InvalidSetting {
+            name: "resolution",
+            value: settings.resolution,
+            requirement: "at least machine epsilon times the space's maximum extent",
+        });
+    }
+    let ompl_settings = PlanSettings {
+        planner: settings.planner,
+        resolution: fraction,
+        simplify: settings.simplify,
+        ..PlanSettings::default()
+    };
+    let mut termination = Termination::after(settings.budget);
+    if let Some(flag) = cancel {
+        termination = termination.with_cancel(flag);
+    }
+    let outcome = match settings.seed {
+        Some(seed) => {
+            // A poisoned lock only means another plan panicked; the guarded state is `()`.
+            let _exclusive = OMPL_RNG.write().unwrap_or_else(|e| e.into_inner());
+            kinscene_ompl::set_seed(seed)?;
+            kinscene_ompl::plan(problem, checker, &ompl_settings, termination)?
+        }
+        None => {
+            let _shared = OMPL_RNG.read().unwrap_or_else(|e| e.into_inner());
+            kinscene_ompl::plan(problem, checker, &ompl_settings, termination)?
+        }
+    };
+    Ok(map_outcome(outcome))
+}
+
+/// OMPL's status as a [`PathOutcome`]; approximate solutions are not paths.
+fn map_outcome(outcome: PlanOutcome) -> PathOutcome {
+    let panics = match outcome.checker_panics {
+        0 => String::new(),
+        n => format!(" ({n} panics in the validity closure, counted as invalid states)"),
+    };
+    match outcome.status {
+        PlanStatus::ExactSolution if !outcome.path.is_empty() => PathOutcome::Found(outcome.path),
+        PlanStatus::ExactSolution => PathOutcome::NotFound {
+            reason: format!("OMPL reported an exact solution without states{panics}"),
+        },
+        PlanStatus::ApproximateSolution => PathOutcome::NotFound {
+            reason: format!(
+                "OMPL found only an approximate solution, ending {} from the goal{panics}",
+                outcome.goal_distance.unwrap_or(f64::NAN)
+            ),
+        },
+        PlanStatus::Timeout => PathOutcome::Timeout,
+        PlanStatus::Cancelled => PathOutcome::Cancelled,
+        PlanStatus::InvalidStart => PathOutcome::InvalidStart,
+        PlanStatus::InvalidGoal => PathOutcome::InvalidGoal,
+        other => PathOutcome::NotFound {
+            reason: format!("OMPL status {other:?}{panics}"),
+        },
+    }
+}
+
+/// Rewrites the yaws of an SE(2) path so that the first is `start[2]` and each differs from
+/// the previous one by the shortest angle (at most π).
+fn unwrap_yaw(path: &mut [Vec<f64>], start: &[f64; 3]) {
+    let mut previous_raw = start[2];
+    let mut previous = start[2];
+    for (k, q) in path.iter_mut().enumerate() {
+        let raw = q[2];
+        let yaw = if k == 0 {
+            start[2]
+        } else {
+            previous + (raw - previous_raw).sin().atan2((raw - previous_raw).cos())
+        };
+        previous_raw = raw;
+        previous = yaw;
+        q[2] = yaw;
+    }
+    if let Some(first) = path.first_mut() {
+        first.copy_from_slice(start);
+    }
+}
+
+fn check_finite<'a>(
+    what: &'static str,
+    values: impl IntoIterator<Item = &'a f64>,
+) -> Result<(), PathError> {
+    match values.into_iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        Some((index, &value)) => Err(PathError::NonFinite { what, index, value }),
+        None => Ok(()),
+    }
+}
+
+/// `lower ≤ upper`, `lower ≠ +∞`, `upper ≠ −∞` (NaN already excluded).
+fn check_bounds(lower: &[f64], upper: &[f64]) -> Result<(), PathError> {
+    let bad = |l: f64, u: f64| l > u || l == f64::INFINITY || u == f64::NEG_INFINITY;
+    match (0..lower.len()).find(|&i| bad(lower[i], upper[i])) {
+        Some(axis) => Err(PathError::InvalidBounds {
+            axis,
+            lower: lower[axis],
+            upper: upper[axis],
+        }),
+        None => Ok(()),
+    }
+}
+
+/// The start within the bounds, with OMPL's tolerance (machine epsilon, absolute).
+fn check_start(start: &[f64], lower: &[f64], upper: &[f64]) -> Result<(), PathError> {
+    let outside =
+        |i: usize| start[i] - f64::EPSILON > upper[i] || start[i] + f64::EPSILON < lower[i];
+    match (0..start.len()).find(|&i| outside(i)) {
+        Some(axis) => Err(PathError::StartOutOfBounds {
+            axis,
+            value: start[axis],
+            lower: lower[axis],
+            upper: upper[axis],
+        }),
+        None => Ok(()),
+    }
+}

@@ -1,0 +1,58 @@
+//! Errors of the time parameterisation: bad input only.
+
+/// Why [`time_parameterise`](super::time_parameterise) could not be carried out.
+#[non_exhaustive]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum TimingError {
+    /// The path has no waypoints.
+    #[error("the path has no waypoints")]
+    EmptyPath,
+    /// A waypoint's length differs from the first waypoint's.
+    #[error("waypoint {index}: expected {expected} values, got {got}")]
+    WaypointDimension {
+        /// Index of the waypoint.
+        index: usize,
+        /// The first waypoint's length.
+        expected: usize,
+        /// This waypoint's length.
+        got: usize,
+    },
+    /// A waypoint coordinate is NaN or infinite.
+    #[error("waypoint {index}, coordinate {coordinate}: {value} is not finite")]
+    NonFiniteWaypoint {
+        /// Index of the waypoint.
+        index: usize,
+        /// Index of the coordinate.
+        coordinate: usize,
+        /// The value given.
+        value: f64,
+    },
+    /// A limit vector's length differs from the waypoints'.
+    #[error("{what}: expected {expected} values, got {got}")]
+    LimitDimension {
+        /// "max_velocity" or "max_acceleration".
+        what: &'static str,
+        /// The waypoints' length.
+        expected: usize,
+        /// The length given.
+        got: usize,
+    },
+    /// A limit is not positive and finite.
+    #[error("{what}[{coordinate}] = {value}: limits must be finite and > 0")]
+    InvalidLimit {
+        /// "max_velocity" or "max_acceleration".
+        what: &'static str,
+        /// Index of the coordinate.
+        coordinate: usize,
+        /// The value given.
+        value: f64,
+    },
+    /// The wrapping yaw coordinate does not exist.
+    #[error("yaw coordinate {index} does not exist in waypoints of {dimension} values")]
+    YawIndexOutOfRange {
+        /// The index given.
+        index: usize,
+        /// The waypoints' length.
+        dimension: usize,
+    },
+}
