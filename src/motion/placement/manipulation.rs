@@ -1,0 +1,395 @@
+//! IK along the grasp trajectory at one base pose, with continuity, joint-jump and collision
+//! checks: the [`ManipulationPlan`].
+
+use std::f64::consts::PI;
+use std::sync::atomic::AtomicBool;
+
+use nalgebra::{DVector, Isometry3, Point3, Vector3};
+
+use super::grasp::{GraspRotation, JointMotion};
+use super::plan::{ManipulationPlan, Obstacle, WaypointFailure};
+use super::{ManipulationSettings, PlacementError, PlacementProblem};
+use crate::kinematics::ik::{IkData, IkOutcome, IkTarget};
+use crate::kinematics::robot::{ArmJointKind, RobotConfig, RobotModel};
+use crate::scene::collision::Body;
+use crate::scene::{PartId, SceneData, forward_kinematics};
+
+/// A bound on where the arm can put the tool: the origin of the first arm joint (in the base
+/// frame) and the arm's length from it — the sum of the link offsets after it and of the tool
+/// offset, plus the stroke of prismatic joints. Rotations about axes through a joint origin
+/// keep distances from it, so by the triangle inequality no configuration puts the tool
+/// farther than `length` from `base_from_shoulder`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ArmReach {
+    /// The first arm joint's origin in the base frame (m).
+    pub base_from_shoulder: Point3<f64>,
+    /// The length bound (m).
+    pub length: f64,
+}
+
+/// The reach bound of `robot`'s arm (see [`ArmReach`]).
+pub fn arm_reach(robot: &RobotModel) -> ArmReach {
+    let joints = robot.arm_joints();
+    let shoulder = joints.first().map_or(*robot.base_from_arm_root(), |j| {
+        robot.base_from_arm_root() * j.parent_from_joint
+    });
+    let links: f64 = joints
+        .iter()
+        .skip(1)
+        .map(|j| j.parent_from_joint.translation.vector.norm())
+        .sum();
+    let strokes: f64 = joints
+        .iter()
+        .filter(|j| j.kind == ArmJointKind::Prismatic)
+        .map(|j| j.lower.abs().max(j.upper.abs()))
+        .sum();
+    ArmReach {
+        base_from_shoulder: Point3::from(shoulder.translation.vector),
+        length: links + strokes + robot.last_from_tool().translation.vector.norm(),
+    }
+}
+
+/// One waypoint's IK problem.
+struct Attempt<'a> {
+    base: [f64; 3],
+    k: usize,
+    target: &'a IkTarget,
+    /// The previous configuration when it was reached (continue from it).
+    continuing: Option<&'a DVector<f64>>,
+    /// The previous configuration, or the plan's seed at the first waypoint.
+    start: &'a DVector<f64>,
+}
+
+/// A joint motion prepared for repeated planning at different base poses: the scene's forward
+/// kinematics at every waypoint and the parts that move with the joint.
+#[derive(Debug, Clone)]
+pub(crate) struct Prepared<'a> {
+    pub problem: PlacementProblem<'a>,
+    pub motion: &'a JointMotion,
+    /// The joint's part and its descendants: ignored for the arm (the grasped part), checked
+    /// for the base links.
+    pub moving: Vec<PartId>,
+    /// Scene FK at each waypoint.
+    pub scene: Vec<SceneData>,
+    pub reach: ArmReach,
+    /// Free or fixed rotation about the approach axis.
+    pub rotation: GraspRotation,
+    /// Stops the sampler when raised.
+    pub cancel: Option<&'a AtomicBool>,
+    pub lower: DVector<f64>,
+    pub upper: DVector<f64>,
+}
+
+impl<'a> Prepared<'a> {
+    pub(crate) fn new(
+        problem: PlacementProblem<'a>,
+        motion: &'a JointMotion,
+        rotation: GraspRotation,
+    ) -> Result<Prepared<'a>, PlacementError> {
+        let model = problem.model;
+        let part = model
+            .part(motion.joint.part())
+            .ok_or(crate::scene::Error::UnknownId {
+                kind: crate::scene::ElementKind::Joint,
+                index: motion.joint.index(),
+            })?;
+        let moving = part.subtree().collect();
+        let scene = (0..motion.len())
+            .map(|k| {
+                let mut data = SceneData::new(model);
+                forward_kinematics(model, &mut data, &motion.state_at(problem.state, k))?;
+                Ok(data)
+            })
+            .collect::<Result<Vec<_>, crate::scene::Error>>()?;
+        let (lower, upper) = problem.robot.arm_bounds();
+        if problem.ik.model().nq() != problem.robot.dof() {
+            return Err(PlacementError::DimensionMismatch {
+                what: "IK solver joints (robot dof)",
+                expected: problem.robot.dof(),
+                got: problem.ik.model().nq(),
+            });
+        }
+        Ok(Prepared {
+            reach: arm_reach(problem.robot),
+            rotation,
+            cancel: None,
+            problem,
+            motion,
+            moving,
+            scene,
+            lower,
+            upper,
+        })
+    }
+
+    /// The first obstacle of the robot at `(base, q)` with the scene in `data`: self
+    /// collision; any link within `margin` of the scene, the moving parts excepted; the base
+    /// links within `margin` of the moving parts (which the base must not be in the way of).
+    pub(crate) fn obstacle(
+        &self,
+        base: [f64; 3],
+        q: &DVector<f64>,
+        data: &SceneData,
+        margin: f64,
+    ) -> Result<Option<Obstacle>, PlacementError> {
+        let p = &self.problem;
+        let poses = p.robot.link_poses(&RobotConfig {
+            base,
+            arm: q.clone(),
+        })?;
+        if let Some((i, j)) = p.collision.self_collision(&poses) {
+            return Ok(Some(Obstacle::SelfCollision(i, j)));
+        }
+        if let Some((link, body)) =
+            p.collision
+                .scene_collision(&poses, p.model, data, &self.moving, margin)
+        {
+            return Ok(Some(Obstacle::Scene { link, body }));
+        }
+        Ok(self
+            .base_obstacle(&poses, data, margin)
+            .map(|(link, body)| Obstacle::Scene { link, body }))
+    }
+
+    /// The base links (a prefix of `poses` up to the last of
+    /// [`RobotCollision::base_links`](crate::kinematics::robot::RobotCollision::base_links))
+    /// against the whole scene in `data`, moving parts included.
+    pub(crate) fn base_obstacle(
+        &self,
+        poses: &[Isometry3<f64>],
+        data: &SceneData,
+        margin: f64,
+    ) -> Option<(usize, Body)> {
+        let p = &self.problem;
+        let n = p.collision.base_links().iter().max().map_or(1, |m| m + 1);
+        p.collision
+            .scene_collision(&poses[..n.min(poses.len())], p.model, data, &[], margin)
+    }
+
+    /// Position and rotation error of the tool at `(base, q)` w.r.t. waypoint `k`, from the
+    /// robot's forward kinematics: the distance to the grasp point, and the angle between tool
+    /// +z and the approach direction (for [`GraspRotation::Fixed`], the angle of the full
+    /// rotation error).
+    pub(crate) fn tool_errors(&self, world_from_tool: &Isometry3<f64>, k: usize) -> (f64, f64) {
+        let g = &self.motion.grasps[k];
+        let position = (world_from_tool.translation.vector - g.position.coords).norm();
+        let angle = match self.rotation {
+            GraspRotation::Free => {
+                let z = world_from_tool.rotation * Vector3::z();
+                z.angle(&g.approach)
+            }
+            GraspRotation::Fixed => {
+                (g.world_from_tool.rotation * world_from_tool.rotation.inverse()).angle()
+            }
+        };
+        (position, angle)
+    }
+
+    /// Checks waypoint `k` at `(base, q)` against everything but IK convergence: tolerance,
+    /// limits, jump from `prev` (the previous reached configuration, if any), collisions at the
+    /// waypoint and along the segment from `prev`.
+    pub(crate) fn check_waypoint(
+        &self,
+        base: [f64; 3],
+        q: &DVector<f64>,
+        k: usize,
+        prev: Option<&DVector<f64>>,
+        settings: &ManipulationSettings,
+        scratch: &mut SceneData,
+    ) -> Result<Option<WaypointFailure>, PlacementError> {
+        let p = &self.problem;
+        let world_from_tool = p.robot.world_from_tool(&RobotConfig {
+            base,
+            arm: q.clone(),
+        })?;
+        let (position_error, rotation_error) = self.tool_errors(&world_from_tool, k);
+        let in_limits = q
+            .iter()
+            .zip(self.lower.iter().zip(self.upper.iter()))
+            .all(|(v, (lo, hi))| (*lo..=*hi).contains(v));
+        if position_error > settings.position_tolerance
+            || rotation_error > settings.rotation_tolerance
+            || !in_limits
+        {
+            return Ok(Some(WaypointFailure::OutOfTolerance {
+                position_error,
+                rotation_error,
+            }));
+        }
+        if let Some(prev) = prev {
+            let (joint, jump) =
+                (q - prev)
+                    .iter()
+                    .map(|d| d.abs())
+                    .enumerate()
+                    .fold(
+                        (0, 0.0),
+                        |best, (j, d)| if d > best.1 { (j, d) } else { best },
+                    );
+            if jump > settings.max_joint_jump {
+                return Ok(Some(WaypointFailure::Jump { joint, jump }));
+            }
+        }
+        if let Some(o) = self.obstacle(base, q, &self.scene[k], settings.margin)? {
+            return Ok(Some(WaypointFailure::Collision(o)));
+        }
+        if let Some(prev) = prev {
+            let step = (q - prev).amax();
+            let n = (step / settings.segment_resolution).ceil() as usize;
+            let (v0, v1) = (self.motion.values[k - 1], self.motion.values[k]);
+            for i in 1..n {
+                let t = i as f64 / n as f64;
+                let qi = prev + (q - prev) * t;
+                let mut s = p.state.clone();
+                s.set_unchecked(self.motion.joint, v0 + t * (v1 - v0));
+                forward_kinematics(p.model, scratch, &s)?;
+                if let Some(o) = self.obstacle(base, &qi, scratch, settings.margin)? {
+                    return Ok(Some(WaypointFailure::SegmentCollision(o)));
+                }
+            }
+        }
+        Ok(None)
+    }
+
+    /// Moves each continuous joint of `q` by a multiple of 2π to within π of `prev` (the IK
+    /// wraps unlimited angles into [−π, π); the trajectory must not jump by 2π).
+    pub(crate) fn unwrap_continuous(&self, q: &mut DVector<f64>, prev: &DVector<f64>) {
+        for (j, joint) in self.problem.robot.arm_joints().iter().enumerate() {
+            if joint.kind == ArmJointKind::Continuous {
+                let d = q[j] - prev[j];
+                q[j] = prev[j] + (d + PI).rem_euclid(2.0 * PI) - PI;
+            }
+        }
+    }
+
+    /// The configuration for one waypoint and why it fails, if it does. Continuing from a
+    /// reached waypoint: `solve_near` from it. Otherwise a full solve (restarts) from `start`;
+    /// if it converges but fails a check (a collision, typically of the gripper with a
+    /// neighbouring part), again from `start` with the last arm joint turned by `2π·i/n`,
+    /// `i = 1 .. n − 1` (`n` = [`ManipulationSettings::roll_attempts`]; another roll about the
+    /// approach axis for the usual wrist), keeping the first success or else the first result.
+    fn solve_waypoint(
+        &self,
+        a: &Attempt<'_>,
+        settings: &ManipulationSettings,
+        ik_data: &mut IkData,
+        scratch: &mut SceneData,
+    ) -> Result<(DVector<f64>, Option<WaypointFailure>), PlacementError> {
+        let ik = self.problem.ik;
+        let attempts = if a.continuing.is_some() {
+            1
+        } else {
+            settings.roll_attempts
+        };
+        let mut first = None;
+        for i in 0..attempts {
+            let outcome = match a.continuing {
+                Some(prev) => ik.solve_near_with(ik_data, a.target, prev)?,
+                None => ik.solve_with(ik_data, a.target, &self.rolled(a.start, i, attempts))?,
+            };
+            let result = match outcome {
+                IkOutcome::Converged { mut q, .. } => {
+                    if a.k > 0 {
+                        self.unwrap_continuous(&mut q, a.start);
+                    }
+                    let failure =
+                        self.check_waypoint(a.base, &q, a.k, a.continuing, settings, scratch)?;
+                    (q, failure)
+                }
+                IkOutcome::NotConverged {
+                    mut best,
+                    position_error,
+                    rotation_error,
+                    ..
+                } => {
+                    if a.k > 0 {
+                        self.unwrap_continuous(&mut best, a.start);
+                    }
+                    let failure = WaypointFailure::NotConverged {
+                        position_error,
+                        rotation_error,
+                    };
+                    // Restarts did not find the target: another seed will not either.
+                    return Ok(first.unwrap_or((best, Some(failure))));
+                }
+            };
+            if result.1.is_none() {
+                return Ok(result);
+            }
+            first.get_or_insert(result);
+        }
+        Ok(first.expect("at least one attempt"))
+    }
+
+    /// `seed` with its last joint turned by `2π·i/n`, clamped into its limits.
+    fn rolled(&self, seed: &DVector<f64>, i: usize, n: usize) -> DVector<f64> {
+        let mut q = seed.clone();
+        if let Some(last) = q.len().checked_sub(1).filter(|_| i > 0) {
+            q[last] = (q[last] + 2.0 * PI * i as f64 / n as f64)
+                .clamp(self.lower[last], self.upper[last]);
+        }
+        q
+    }
+
+    /// IK along the trajectory at `base` (see [`plan_manipulation`](super::plan_manipulation)).
+    /// Gives up (marking the rest [`WaypointFailure::Skipped`]) once fewer than `at_least`
+    /// waypoints can still be reached.
+    pub(crate) fn plan(
+        &self,
+        base: [f64; 3],
+        seed: &DVector<f64>,
+        settings: &ManipulationSettings,
+        at_least: usize,
+    ) -> Result<ManipulationPlan, PlacementError> {
+        let p = &self.problem;
+        let n = self.motion.len();
+        let world_from_base = RobotModel::world_from_base(base);
+        let shoulder = world_from_base * self.reach.base_from_shoulder;
+        let mut plan = ManipulationPlan {
+            base,
+            arm: Vec::with_capacity(n),
+            reached: Vec::with_capacity(n),
+            failures: Vec::with_capacity(n),
+        };
+        let mut scratch = SceneData::new(p.model);
+        let mut ik_data = IkData::new(p.ik)?;
+        for k in 0..n {
+            if plan.reached_count() + (n - k) < at_least {
+                let last = plan.arm.last().cloned().unwrap_or_else(|| seed.clone());
+                plan.arm.push(last);
+                plan.reached.push(false);
+                plan.failures.push(Some(WaypointFailure::Skipped));
+                continue;
+            }
+            let prev_reached = plan.reached.last().copied().unwrap_or(false);
+            let prev = plan.arm.last().cloned();
+            let grasp = &self.motion.grasps[k];
+            let distance = (grasp.position - shoulder).norm();
+            let (q, failure) = if distance > self.reach.length {
+                (
+                    prev.clone().unwrap_or_else(|| seed.clone()),
+                    Some(WaypointFailure::OutOfReach {
+                        distance,
+                        reach: self.reach.length,
+                    }),
+                )
+            } else {
+                let target = grasp.ik_target(&world_from_base, self.rotation);
+                let continuing = prev.as_ref().filter(|_| prev_reached);
+                let start = prev.as_ref().unwrap_or(seed);
+                let attempt = Attempt {
+                    base,
+                    k,
+                    target: &target,
+                    continuing,
+                    start,
+                };
+                self.solve_waypoint(&attempt, settings, &mut ik_data, &mut scratch)?
+            };
+            plan.arm.push(q);
+            plan.reached.push(failure.is_none());
+            plan.failures.push(failure);
+        }
+        Ok(plan)
+    }
+}

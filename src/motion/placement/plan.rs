@@ -1,0 +1,159 @@
+//! What a manipulation plan at one base pose is: the arm's configurations along the grasp
+//! trajectory, which waypoints they reach, and why the others fail.
+
+use std::fmt;
+
+use nalgebra::DVector;
+
+use crate::scene::collision::Body;
+
+/// What a robot configuration touches.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Obstacle {
+    /// Two links of the robot, `(i, j)` with `i < j` (indices into
+    /// [`RobotModel::links`](crate::kinematics::robot::RobotModel::links)).
+    SelfCollision(usize, usize),
+    /// A robot link and a scene body.
+    Scene {
+        /// The robot link.
+        link: usize,
+        /// The scene body within the margin.
+        body: Body,
+    },
+}
+
+/// Why a waypoint does not count as reached.
+#[non_exhaustive]
+#[derive(Debug, Clone, PartialEq)]
+pub enum WaypointFailure {
+    /// The grasp point is farther from the first arm joint than the arm's length bound
+    /// ([`arm_reach`](super::arm_reach)); IK was not tried.
+    OutOfReach {
+        /// Distance (m) from the first arm joint's origin to the grasp point.
+        distance: f64,
+        /// The arm's length bound (m).
+        reach: f64,
+    },
+    /// IK did not converge; its best configuration's errors.
+    NotConverged {
+        /// Position error (m).
+        position_error: f64,
+        /// Rotation error (rad).
+        rotation_error: f64,
+    },
+    /// The configuration misses the grasp frame by more than the tolerances (checked again
+    /// with the robot's forward kinematics), or leaves the joint limits.
+    OutOfTolerance {
+        /// Position error (m).
+        position_error: f64,
+        /// Rotation error (rad).
+        rotation_error: f64,
+    },
+    /// A joint moves more than [`ManipulationSettings::max_joint_jump`](super::ManipulationSettings::max_joint_jump) from the previous
+    /// waypoint.
+    Jump {
+        /// The arm joint (index).
+        joint: usize,
+        /// The change (rad or m).
+        jump: f64,
+    },
+    /// The configuration at the waypoint collides.
+    Collision(Obstacle),
+    /// The configuration is free but the motion from the previous waypoint collides.
+    SegmentCollision(Obstacle),
+    /// Not evaluated: the base pose had already lost to a better one.
+    Skipped,
+}
+
+impl fmt::Display for WaypointFailure {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            WaypointFailure::OutOfReach { distance, reach } => write!(
+                f,
+                "out of reach ({distance:.3} m from the first arm joint, reach {reach:.3} m)"
+            ),
+            WaypointFailure::NotConverged {
+                position_error,
+                rotation_error,
+            } => write!(
+                f,
+                "IK did not converge (errors {position_error:.2e} m, {rotation_error:.2e} rad)"
+            ),
+            WaypointFailure::OutOfTolerance {
+                position_error,
+                rotation_error,
+            } => write!(
+                f,
+                "off the grasp frame or joint limits (errors {position_error:.2e} m, \
+                 {rotation_error:.2e} rad)"
+            ),
+            WaypointFailure::Jump { joint, jump } => {
+                write!(
+                    f,
+                    "arm joint {joint} jumps {jump:.3} from the previous waypoint"
+                )
+            }
+            WaypointFailure::Collision(o) => write!(f, "collision: {o:?}"),
+            WaypointFailure::SegmentCollision(o) => {
+                write!(f, "collision on the way from the previous waypoint: {o:?}")
+            }
+            WaypointFailure::Skipped => write!(f, "not evaluated"),
+        }
+    }
+}
+
+/// The arm's configurations along the grasp trajectory at one base pose.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ManipulationPlan {
+    /// The base pose: x (m), y (m), yaw (rad).
+    pub base: [f64; 3],
+    /// The arm configuration at each waypoint (`K + 1`); at a waypoint not reached, the best
+    /// attempt (or the previous configuration).
+    pub arm: Vec<DVector<f64>>,
+    /// Whether each waypoint is reached: IK converged, the tool is on the grasp frame within
+    /// the tolerances, joints within limits, no jump from the previous waypoint if that was
+    /// reached, and the robot free of collisions at the waypoint and on the way from the
+    /// previous reached one.
+    pub reached: Vec<bool>,
+    /// Why each waypoint not reached failed (`None` where reached).
+    pub failures: Vec<Option<WaypointFailure>>,
+}
+
+impl ManipulationPlan {
+    /// Number of waypoints reached.
+    pub fn reached_count(&self) -> usize {
+        self.reached.iter().filter(|r| **r).count()
+    }
+
+    /// True when every waypoint is reached.
+    pub fn is_complete(&self) -> bool {
+        self.reached.iter().all(|r| *r)
+    }
+
+    /// Joint-space path length `Σ ‖q_{k+1} − q_k‖` (rad or m, Euclidean).
+    pub fn path_length(&self) -> f64 {
+        self.arm.windows(2).map(|w| (&w[1] - &w[0]).norm()).sum()
+    }
+
+    /// Smoothness cost `Σ ‖q_{k+1} − q_k‖²` (the optimiser's objective without its pull term).
+    pub fn smoothness(&self) -> f64 {
+        self.arm
+            .windows(2)
+            .map(|w| (&w[1] - &w[0]).norm_squared())
+            .sum()
+    }
+
+    /// A one-line summary of the first failure, `None` if complete.
+    pub fn reason(&self) -> Option<String> {
+        let missed = self.reached.iter().filter(|r| !**r).count();
+        let (k, failure) = self
+            .failures
+            .iter()
+            .enumerate()
+            .find_map(|(k, f)| f.as_ref().map(|f| (k, f)))?;
+        Some(format!(
+            "{missed} of {} waypoints not reached; first at waypoint {k}: {failure}",
+            self.reached.len()
+        ))
+    }
+}

@@ -1,0 +1,193 @@
+//! The paper's base placement: sample base poses around the part, keep the one from which the
+//! most waypoints are reached.
+
+use std::collections::BTreeSet;
+use std::f64::consts::PI;
+use std::sync::atomic::Ordering;
+use std::time::Instant;
+
+use nalgebra::{DVector, Point2, Vector2};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use super::manipulation::Prepared;
+use super::plan::{ManipulationPlan, Obstacle, WaypointFailure};
+use super::{ManipulationSettings, PlacementError, SamplingSettings};
+use crate::kinematics::robot::RobotConfig;
+use crate::scene::PartId;
+use crate::scene::collision::Body;
+
+/// What the sampler found.
+#[derive(Debug, Clone)]
+pub(crate) struct SampleResult {
+    /// The best plan, `None` if every sample collided.
+    pub best: Option<ManipulationPlan>,
+    /// Base poses drawn.
+    pub drawn: usize,
+    /// Of those, rejected because the base links collide.
+    pub rejected: usize,
+    /// A fallback base pose when every sample collided: `robot_from`, facing the centroid.
+    pub fallback: [f64; 3],
+    /// Why sampling stopped early, if it did.
+    pub stopped: Option<Stop>,
+    /// The parts that touched a rejected base pose or an evaluated waypoint.
+    pub obstacles: BTreeSet<PartId>,
+}
+
+/// Why the sampler stopped before evaluating `samples` base poses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Stop {
+    /// [`SamplingSettings::budget`] ran out.
+    Budget,
+    /// The cancel flag was raised.
+    Cancelled,
+}
+
+/// `angle` wrapped into `(-π, π]`.
+pub(crate) fn wrap(angle: f64) -> f64 {
+    let a = angle.rem_euclid(2.0 * PI);
+    if a > PI { a - 2.0 * PI } else { a }
+}
+
+/// The sampling region of [`SamplingSettings`]: the trajectory's horizontal centroid, the front
+/// direction, and the radial range.
+pub(crate) fn region(
+    prepared: &Prepared<'_>,
+    robot_from: [f64; 2],
+    settings: &SamplingSettings,
+) -> (Point2<f64>, Vector2<f64>, [f64; 2]) {
+    let grasps = &prepared.motion.grasps;
+    let n = grasps.len() as f64;
+    let centroid = grasps
+        .iter()
+        .fold(Vector2::zeros(), |s, g| s + g.position.coords.xy())
+        / n;
+    let normal = grasps
+        .iter()
+        .fold(Vector2::zeros(), |s, g| s - g.approach.into_inner().xy())
+        / n;
+    let towards_robot = Vector2::from(robot_from) - centroid;
+    let front = if normal.norm() >= 0.1 {
+        normal.normalize()
+    } else if towards_robot.norm() > 1e-9 {
+        towards_robot.normalize()
+    } else {
+        Vector2::x()
+    };
+    let robot = prepared.problem.robot;
+    let distance = settings.distance.unwrap_or_else(|| {
+        let r = robot.base().footprint_radius + 0.05;
+        [r, r + 0.6 * prepared.reach.length]
+    });
+    (Point2::from(centroid), front, distance)
+}
+
+/// Draws base poses, rejects those whose base links collide with the scene at any waypoint (the
+/// parts at the current state and the moving part along its motion), and plans the
+/// manipulation from the others until `settings.samples` were evaluated or `max_draws` drawn; keeps the plan with the most waypoints reached,
+/// then the lowest `path_length + distance_weight · ‖base − robot_from‖`, then the earliest.
+pub(crate) fn sample(
+    prepared: &Prepared<'_>,
+    robot_from: [f64; 2],
+    seed: &DVector<f64>,
+    sampling: &SamplingSettings,
+    manipulation: &ManipulationSettings,
+) -> Result<SampleResult, PlacementError> {
+    let (centroid, front, [r_min, r_max]) = region(prepared, robot_from, sampling);
+    let front_angle = front.y.atan2(front.x);
+    let mut rng = ChaCha8Rng::seed_from_u64(sampling.seed);
+    let towards = centroid - Point2::from(robot_from);
+    let fallback = [robot_from[0], robot_from[1], towards.y.atan2(towards.x)];
+    let cost = |plan: &ManipulationPlan| {
+        let d = (Vector2::new(plan.base[0], plan.base[1]) - Vector2::from(robot_from)).norm();
+        plan.path_length() + sampling.distance_weight * d
+    };
+    let mut best: Option<(usize, f64, ManipulationPlan)> = None;
+    let (mut drawn, mut rejected) = (0, 0);
+    let mut obstacles = BTreeSet::new();
+    let start = Instant::now();
+    let mut stopped = None;
+    while drawn - rejected < sampling.samples && drawn < sampling.max_draws {
+        if start.elapsed() > sampling.budget {
+            stopped = Some(Stop::Budget);
+            break;
+        }
+        if prepared.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+            stopped = Some(Stop::Cancelled);
+            break;
+        }
+        drawn += 1;
+        // Uniform over the annular sector's area.
+        let u: f64 = rng.random();
+        let r = (r_min * r_min + u * (r_max * r_max - r_min * r_min)).sqrt();
+        let bearing = front_angle + sampling.bearing_spread * (2.0 * rng.random::<f64>() - 1.0);
+        let jitter = sampling.yaw_jitter * (2.0 * rng.random::<f64>() - 1.0);
+        let position = centroid + Vector2::new(bearing.cos(), bearing.sin()) * r;
+        let facing = centroid - position;
+        let base = [
+            position.x,
+            position.y,
+            wrap(facing.y.atan2(facing.x) + jitter),
+        ];
+        if let Some(body) = base_collides(prepared, base, seed, sampling.base_margin)? {
+            if let Body::Part(part) = body {
+                obstacles.insert(part);
+            }
+            rejected += 1;
+            continue;
+        }
+        let at_least = best.as_ref().map_or(0, |b| b.0);
+        let plan = prepared.plan(base, seed, manipulation, at_least)?;
+        obstacles.extend(obstacle_parts(&plan));
+        let score = (plan.reached_count(), cost(&plan));
+        let better = best
+            .as_ref()
+            .is_none_or(|b| score.0 > b.0 || (score.0 == b.0 && score.1 < b.1));
+        if better {
+            best = Some((score.0, score.1, plan));
+        }
+    }
+    Ok(SampleResult {
+        best: best.map(|b| b.2),
+        drawn,
+        rejected,
+        stopped,
+        fallback,
+        obstacles,
+    })
+}
+
+/// The first scene body the base links at `base` are within `margin` of, at any waypoint.
+fn base_collides(
+    prepared: &Prepared<'_>,
+    base: [f64; 3],
+    arm: &DVector<f64>,
+    margin: f64,
+) -> Result<Option<Body>, PlacementError> {
+    let poses = prepared.problem.robot.link_poses(&RobotConfig {
+        base,
+        arm: arm.clone(),
+    })?;
+    Ok(prepared
+        .scene
+        .iter()
+        .find_map(|data| prepared.base_obstacle(&poses, data, margin))
+        .map(|(_, body)| body))
+}
+
+/// The parts a plan's waypoints (or the segments to them) touched.
+pub(crate) fn obstacle_parts(plan: &ManipulationPlan) -> impl Iterator<Item = PartId> + '_ {
+    plan.failures.iter().filter_map(|f| match f {
+        Some(
+            WaypointFailure::Collision(Obstacle::Scene {
+                body: Body::Part(part),
+                ..
+            })
+            | WaypointFailure::SegmentCollision(Obstacle::Scene {
+                body: Body::Part(part),
+                ..
+            }),
+        ) => Some(*part),
+        _ => None,
+    })
+}

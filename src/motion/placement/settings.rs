@@ -1,0 +1,348 @@
+//! Settings of base placement and of the manipulation plan at a base pose.
+
+use std::time::Duration;
+
+use kinscene_casadi::NlpSettings;
+
+use super::PlacementError;
+use super::grasp::GraspRotation;
+
+/// How the base pose is chosen.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PlacementMethod {
+    /// The paper's method: sample base poses around the part and keep the one from which the
+    /// most waypoints are reached ([`SamplingSettings`]).
+    #[default]
+    Sampled,
+    /// Sample first, then optimise the base pose and all arm configurations together as one
+    /// CasADi/IPOPT problem initialised from the best sample ([`OptimisationSettings`]); the
+    /// optimum is accepted only if an independent check reaches every waypoint, otherwise the
+    /// sampled result is returned.
+    Optimised,
+}
+
+/// Settings of the manipulation plan at one base pose (IK along the trajectory and its checks).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ManipulationSettings {
+    /// Largest change of any arm joint between consecutive waypoints (rad or m), > 0. A larger
+    /// jump makes the later waypoint count as not reached. Default 0.35.
+    pub max_joint_jump: f64,
+    /// Spacing of the collision checks between consecutive waypoints: the straight joint-space
+    /// segment (and the part's value, linearly) is checked at steps of at most this much in
+    /// every joint (rad or m), > 0. Default 0.05.
+    pub segment_resolution: f64,
+    /// Clearance (m) the robot must keep from the scene (and itself is checked without one),
+    /// >= 0. Default 0.005.
+    pub margin: f64,
+    /// Largest distance (m) of the tool origin from the grasp point for a waypoint to count as
+    /// reached, > 0. Default 1e-5 (the IK's default tolerance).
+    pub position_tolerance: f64,
+    /// Largest angle (rad) between the tool's +z axis and the approach direction (and, for
+    /// [`GraspRotation::Fixed`], of the full rotation error), > 0. Default 1e-4.
+    pub rotation_tolerance: f64,
+    /// Seeds tried for a full IK solve (at the first waypoint and after a missed one) whose
+    /// solution fails a check: the seed with the last arm joint turned by `2π·i/roll_attempts`
+    /// (another gripper roll, e.g. fingers clear of a neighbouring door), >= 1. Default 4.
+    pub roll_attempts: usize,
+}
+
+impl Default for ManipulationSettings {
+    fn default() -> Self {
+        ManipulationSettings {
+            max_joint_jump: 0.35,
+            segment_resolution: 0.05,
+            margin: 0.005,
+            position_tolerance: 1e-5,
+            rotation_tolerance: 1e-4,
+            roll_attempts: 4,
+        }
+    }
+}
+
+/// Settings of the sampled base placement (the paper's method).
+///
+/// Base positions are drawn in an annular sector centred on the handle trajectory's
+/// horizontal centroid `c`: distance `r ∈ distance` from `c` (uniform over the area), bearing
+/// within `±bearing_spread` of the *front direction* (the mean of the waypoints' outward
+/// normals, projected on the floor; if that is shorter than 0.1, the direction from `c` to the
+/// robot's current position). The default spread, π, is the whole annulus "around the part":
+/// beside a door's sweep is often the only place the base fits. The yaw faces `c` (base +x
+/// towards it) plus a uniform jitter in `±yaw_jitter`. Poses whose base links touch the scene
+/// are drawn again, up to `max_draws` draws in all. Draws are reproducible from `seed`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SamplingSettings {
+    /// Number of collision-free base poses to evaluate (IK along the trajectory), >= 1.
+    /// Default 30.
+    pub samples: usize,
+    /// Largest number of base poses drawn (colliding ones included), >= `samples`.
+    /// Default 600.
+    pub max_draws: usize,
+    /// Wall-clock budget of the sampling: no new base pose is evaluated once it is spent (the
+    /// best so far is kept), > 0. Default 20 s. (A sample whose waypoints cannot be reached
+    /// costs up to `K + 1` full IK solves, each bounded by the IK solver's own budget.)
+    pub budget: Duration,
+    /// Seed of the sampler (ChaCha8).
+    pub seed: u64,
+    /// Radial range `[min, max]` (m) of the base centre from the trajectory centroid, or `None`
+    /// for the robot's default: `[footprint_radius + 0.05, footprint_radius + 0.05 + 0.6 ·
+    /// arm reach]` where the arm reach is the length bound of
+    /// [`arm_reach`](super::arm_reach).
+    pub distance: Option<[f64; 2]>,
+    /// Half-angle (rad) of the sector around the front direction, in `[0, π]`. Default π.
+    pub bearing_spread: f64,
+    /// Half-width (rad) of the uniform yaw jitter, in `[0, π]`. Default 0.6.
+    pub yaw_jitter: f64,
+    /// Clearance (m) the base links (and the stowed arm) must keep from the scene at the
+    /// current state for a sample to be evaluated at all, >= 0. Default 0.02.
+    pub base_margin: f64,
+    /// Tie-break between samples that reach the same number of waypoints: the lower
+    /// `path length (rad) + distance_weight · ‖base − robot_from‖ (m)` wins, >= 0. Default 0.5.
+    pub distance_weight: f64,
+}
+
+impl Default for SamplingSettings {
+    fn default() -> Self {
+        SamplingSettings {
+            samples: 30,
+            max_draws: 600,
+            budget: Duration::from_secs(20),
+            seed: 0x6b69_6e73,
+            distance: None,
+            bearing_spread: std::f64::consts::PI,
+            yaw_jitter: 0.6,
+            base_margin: 0.02,
+            distance_weight: 0.5,
+        }
+    }
+}
+
+/// Settings of the optimised base placement (CasADi/IPOPT). The problem is described in the
+/// [module docs](super#the-placement-nlp).
+#[derive(Debug, Clone, PartialEq)]
+pub struct OptimisationSettings {
+    /// IPOPT's settings. Default: `constraint_tolerance` 1e-8 (the waypoint equalities), a
+    /// wall-time limit of 5 s, otherwise [`NlpSettings::default`].
+    pub nlp: NlpSettings,
+    /// How far the base may move from the best sample: `[metres, radians]`, both > 0.
+    /// Default `[0.3, 0.6]`.
+    pub trust_region: [f64; 2],
+    /// Weights of the pull towards the sampled solution (`Σ‖q − q_sample‖² + ‖b − b_sample‖²`)
+    /// relative to the smoothness term `Σ‖q_{k+1} − q_k‖²`, each >= 0 and finite, at least
+    /// one: IPOPT is run with each in turn until its result passes the verification. Default
+    /// `[1e-3, 1e-1, 10]`.
+    pub pull_weights: Vec<f64>,
+    /// Clearance (m) of the footprint disc from the obstacle boxes near the handle (the
+    /// half-plane constraints), >= 0. Default 0.05.
+    pub clearance: f64,
+    /// Number of half-plane slots in the NLP (the nearest obstacle boxes are used), >= 1.
+    /// Default 16.
+    pub max_half_planes: usize,
+    /// Obstacle boxes farther than this (m) from the sampled base centre are not turned into
+    /// half-planes, > 0. Default 1.5.
+    pub obstacle_radius: f64,
+}
+
+impl Default for OptimisationSettings {
+    fn default() -> Self {
+        OptimisationSettings {
+            nlp: NlpSettings {
+                constraint_tolerance: 1e-8,
+                max_wall_time: 5.0,
+                ..NlpSettings::default()
+            },
+            trust_region: [0.3, 0.6],
+            pull_weights: vec![1e-3, 1e-1, 10.0],
+            clearance: 0.05,
+            max_half_planes: 16,
+            obstacle_radius: 1.5,
+        }
+    }
+}
+
+/// Everything [`place_and_plan`](super::place_and_plan) needs besides the problem.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlacementSettings {
+    /// Sampled or optimised.
+    pub method: PlacementMethod,
+    /// Steps `K` of the handle trajectory (`K + 1` waypoints), in `1..=1000`. Default 10.
+    pub steps: usize,
+    /// How the rotation about the approach axis is chosen.
+    pub grasp: GraspRotation,
+    /// IK along the trajectory and its checks.
+    pub manipulation: ManipulationSettings,
+    /// The sampler (used by both methods).
+    pub sampling: SamplingSettings,
+    /// The optimiser (used by [`PlacementMethod::Optimised`]).
+    pub optimisation: OptimisationSettings,
+}
+
+impl Default for PlacementSettings {
+    fn default() -> Self {
+        PlacementSettings {
+            method: PlacementMethod::default(),
+            steps: 10,
+            grasp: GraspRotation::default(),
+            manipulation: ManipulationSettings::default(),
+            sampling: SamplingSettings::default(),
+            optimisation: OptimisationSettings::default(),
+        }
+    }
+}
+
+/// Largest `K` accepted (the NLP has `7 · (K + 1)` arm variables for a 7-DoF arm).
+pub const MAX_STEPS: usize = 1000;
+
+fn positive(what: &'static str, value: f64) -> Result<(), PlacementError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(PlacementError::InvalidSetting {
+            what,
+            value,
+            reason: "must be finite and > 0",
+        })
+    }
+}
+
+fn non_negative(what: &'static str, value: f64) -> Result<(), PlacementError> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(())
+    } else {
+        Err(PlacementError::InvalidSetting {
+            what,
+            value,
+            reason: "must be finite and >= 0",
+        })
+    }
+}
+
+fn angle(what: &'static str, value: f64) -> Result<(), PlacementError> {
+    if (0.0..=std::f64::consts::PI).contains(&value) {
+        Ok(())
+    } else {
+        Err(PlacementError::InvalidSetting {
+            what,
+            value,
+            reason: "must be in [0, pi]",
+        })
+    }
+}
+
+impl ManipulationSettings {
+    /// Checks every field's range.
+    ///
+    /// # Errors
+    /// [`PlacementError::InvalidSetting`] naming the field.
+    pub fn validate(&self) -> Result<(), PlacementError> {
+        positive("manipulation.max_joint_jump", self.max_joint_jump)?;
+        positive("manipulation.segment_resolution", self.segment_resolution)?;
+        non_negative("manipulation.margin", self.margin)?;
+        positive("manipulation.position_tolerance", self.position_tolerance)?;
+        positive("manipulation.rotation_tolerance", self.rotation_tolerance)?;
+        if self.roll_attempts == 0 {
+            return Err(PlacementError::InvalidSetting {
+                what: "manipulation.roll_attempts",
+                value: 0.0,
+                reason: "must be >= 1",
+            });
+        }
+        Ok(())
+    }
+}
+
+impl SamplingSettings {
+    /// Checks every field's range.
+    ///
+    /// # Errors
+    /// [`PlacementError::InvalidSetting`] naming the field.
+    pub fn validate(&self) -> Result<(), PlacementError> {
+        if self.samples == 0 {
+            return Err(PlacementError::InvalidSetting {
+                what: "sampling.samples",
+                value: 0.0,
+                reason: "must be >= 1",
+            });
+        }
+        if self.max_draws < self.samples {
+            return Err(PlacementError::InvalidSetting {
+                what: "sampling.max_draws",
+                value: self.max_draws as f64,
+                reason: "must be >= sampling.samples",
+            });
+        }
+        if self.budget.is_zero() {
+            return Err(PlacementError::InvalidSetting {
+                what: "sampling.budget",
+                value: 0.0,
+                reason: "must be > 0",
+            });
+        }
+        if let Some([lo, hi]) = self.distance {
+            non_negative("sampling.distance[0]", lo)?;
+            positive("sampling.distance[1]", hi)?;
+            if lo > hi {
+                return Err(PlacementError::InvalidSetting {
+                    what: "sampling.distance",
+                    value: lo,
+                    reason: "the minimum must not exceed the maximum",
+                });
+            }
+        }
+        angle("sampling.bearing_spread", self.bearing_spread)?;
+        angle("sampling.yaw_jitter", self.yaw_jitter)?;
+        non_negative("sampling.base_margin", self.base_margin)?;
+        non_negative("sampling.distance_weight", self.distance_weight)
+    }
+}
+
+impl OptimisationSettings {
+    /// Checks every field's range (and IPOPT's settings).
+    ///
+    /// # Errors
+    /// [`PlacementError::InvalidSetting`] naming the field; [`PlacementError::Casadi`] for
+    /// invalid [`NlpSettings`].
+    pub fn validate(&self) -> Result<(), PlacementError> {
+        self.nlp.validate()?;
+        positive("optimisation.trust_region[0]", self.trust_region[0])?;
+        positive("optimisation.trust_region[1]", self.trust_region[1])?;
+        if self.pull_weights.is_empty() {
+            return Err(PlacementError::InvalidSetting {
+                what: "optimisation.pull_weights",
+                value: 0.0,
+                reason: "must hold at least one weight",
+            });
+        }
+        for &w in &self.pull_weights {
+            non_negative("optimisation.pull_weights", w)?;
+        }
+        non_negative("optimisation.clearance", self.clearance)?;
+        if self.max_half_planes == 0 {
+            return Err(PlacementError::InvalidSetting {
+                what: "optimisation.max_half_planes",
+                value: 0.0,
+                reason: "must be >= 1",
+            });
+        }
+        positive("optimisation.obstacle_radius", self.obstacle_radius)
+    }
+}
+
+impl PlacementSettings {
+    /// Checks every field's range.
+    ///
+    /// # Errors
+    /// [`PlacementError::InvalidSetting`] naming the field; [`PlacementError::Casadi`] for
+    /// invalid IPOPT settings.
+    pub fn validate(&self) -> Result<(), PlacementError> {
+        if self.steps == 0 || self.steps > MAX_STEPS {
+            return Err(PlacementError::InvalidSetting {
+                what: "steps",
+                value: self.steps as f64,
+                reason: "must be in 1..=1000",
+            });
+        }
+        self.manipulation.validate()?;
+        self.sampling.validate()?;
+        self.optimisation.validate()
+    }
+}
