@@ -575,3 +575,94 @@ fn plan_and_validate_help_print_the_schemas() {
     let text = String::from_utf8(help.stdout).unwrap();
     assert!(text.contains("plan") && text.contains("validate") && text.contains("4 "));
 }
+
+/// A counter whose front face is the plane x = 0 and a drawer front sliding out along -x, its
+/// handle at 0.75 m (the README's planner example, as URDF).
+const COUNTER_URDF: &str = r#"<robot name="counter">
+  <link name="room">
+    <collision name="counter"><origin xyz="0.3 0 0.45"/><geometry><box size="0.6 2 0.9"/></geometry></collision>
+  </link>
+  <link name="drawer">
+    <collision><geometry><box size="0.02 0.4 0.2"/></geometry></collision>
+  </link>
+  <joint name="drawer_slide" type="prismatic">
+    <parent link="room"/><child link="drawer"/>
+    <origin xyz="-0.02 0 0.75"/><axis xyz="-1 0 0"/>
+    <limit lower="0" upper="0.35" effort="0" velocity="0"/>
+  </joint>
+  <link name="drawer_handle"/>
+  <joint name="drawer_handle_joint" type="fixed">
+    <parent link="drawer"/><child link="drawer_handle"/>
+    <origin xyz="-0.03 0 0" rpy="0 0 3.141592653589793"/>
+  </joint>
+</robot>"#;
+
+#[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
+#[test]
+fn plan_with_a_robot_writes_base_and_arm_paths_with_timing() {
+    let scene = scratch_file("counter.urdf", COUNTER_URDF);
+    let goal = scratch_file(
+        "counter_goal.toml",
+        "[goal]\ndrawer_slide = { min = 0.25 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
+    );
+    let out = scratch_file("counter_motion.json", "");
+    let output = kinscene(&[
+        "plan",
+        "--scene",
+        arg(&scene),
+        "--goal",
+        arg(&goal),
+        "--robot",
+        "gen3",
+        "--budget",
+        "60s",
+        "--out",
+        arg(&out),
+    ]);
+    assert_eq!(
+        output.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let doc: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(doc["status"], "solved");
+    assert_eq!(doc["robot"], "kinova_gen3_mobile");
+    let motion = doc["motion"].as_array().unwrap();
+    assert_eq!(motion.len(), doc["steps"].as_array().unwrap().len());
+    let m = &motion[0];
+    assert_eq!(m["joint"], "drawer_slide");
+    // The base path starts at the goal file's start pose; the arm paths are 7-D (the Gen3).
+    assert_eq!(m["base_path"]["positions"][0][0].as_f64(), Some(-0.9));
+    assert_eq!(m["approach"]["positions"][0].as_array().unwrap().len(), 7);
+    let times = m["manipulation"]["times"].as_array().unwrap();
+    assert_eq!(
+        times.len(),
+        m["manipulation"]["positions"].as_array().unwrap().len()
+    );
+    assert!(m["timing"]["manipulation"].as_f64().unwrap() > 0.0);
+    assert!(doc["duration"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn plan_with_a_bad_robot_file_is_bad_input() {
+    let scene = scratch_file("counter2.urdf", COUNTER_URDF);
+    let goal = scratch_file(
+        "counter_goal2.toml",
+        "[goal]\ndrawer_slide = { min = 0.25 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
+    );
+    let robot = scratch_file(
+        "not_a_robot.urdf",
+        "<robot name=\"x\"><link name=\"a\"/></robot>",
+    );
+    let output = kinscene(&[
+        "plan",
+        "--scene",
+        arg(&scene),
+        "--goal",
+        arg(&goal),
+        "--robot",
+        arg(&robot),
+    ]);
+    assert_bad_input(&output);
+}

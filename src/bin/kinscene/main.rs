@@ -3,14 +3,15 @@
 //! ```text
 //! kinscene inspect  --scene S.urdf [--package NAME=PATH ...]
 //! kinscene plan     --scene S.urdf --goal G.toml [--budget 10s] [--out plan.json]
-//!                   [--strategy search|random|paper] [--seed N] [--package NAME=PATH ...]
+//!                   [--strategy search|random|paper] [--seed N] [--robot URDF|gen3]
+//!                   [--package NAME=PATH ...]
 //! kinscene validate --scene S.urdf --goal G.toml --plan plan.json [--package NAME=PATH ...]
 //! ```
 //!
 //! | subcommand | does |
 //! |---|---|
 //! | `inspect` | loads a scene URDF and prints its joints, handles, base shapes and navigation grid as JSON ([`inspect`]) |
-//! | `plan` | plans the order of single-joint changes that reaches a goal and writes the plan document ([`plan`]) |
+//! | `plan` | plans the order of single-joint changes that reaches a goal and writes the plan document ([`plan`]); with `--robot`, refines it into base and arm motion with timing ([`motion`]) |
 //! | `validate` | replays a plan with the independent validator and prints a JSON report ([`validate`]) |
 //!
 //! Every subcommand reads the scene with `--scene` (relative mesh paths resolve against the
@@ -65,6 +66,7 @@
 
 mod input;
 mod inspect;
+mod motion;
 mod plan;
 mod validate;
 

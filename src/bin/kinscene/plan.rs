@@ -1,7 +1,8 @@
 //! `kinscene plan --scene S.urdf --goal G.toml [--budget 10s] [--out plan.json]
-//! [--strategy search|random|paper] [--seed N] [--package NAME=PATH ...]`: plans the order
-//! of single-joint changes that reaches a goal ([`kinscene::task::plan`]) and writes the plan
-//! document.
+//! [--strategy search|random|paper] [--seed N] [--robot URDF|gen3] [--package NAME=PATH ...]`:
+//! plans the order of single-joint changes that reaches a goal ([`kinscene::task::plan`]) and
+//! writes the plan document. With `--robot`, the hierarchical planner refines the order into
+//! motion (see [`crate::motion`]).
 //!
 //! The goal file is TOML, or JSON if its name ends in `.json` (schema:
 //! [`kinscene::task::GoalSpec`]). The plan document
@@ -84,6 +85,12 @@ pub struct Args {
     /// Seed of the `random` and `paper` baselines' order sampler [default: 0].
     #[arg(long, value_name = "N")]
     seed: Option<u64>,
+    /// Refine the plan with motion for this robot: a robot URDF, or `gen3` for the shipped
+    /// Kinova Gen3 on an omnidirectional base. The document then also holds base paths, base
+    /// poses, arm paths and timing per step (schema: `kinscene::planner`'s document module),
+    /// and the goal file must give the robot's start pose (`[robot] base = [x, y, yaw]`).
+    #[arg(long, value_name = "URDF|gen3")]
+    robot: Option<PathBuf>,
 }
 
 /// `--strategy`.
@@ -148,6 +155,18 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<Verdict, CliError> {
         strategy,
         ..TaskSettings::default()
     };
+    if let Some(robot) = &args.robot {
+        return crate::motion::run(
+            robot,
+            &args.goal,
+            &model,
+            &problem,
+            settings,
+            (budget, args.budget.trim()),
+            args.out.as_deref(),
+            out,
+        );
+    }
     // The budget starts after loading: it bounds the planner and the diagnosis.
     let termination = Termination::after(budget);
     let result = plan(&model, &problem, &settings, &NoRefinement, &termination)

@@ -1,0 +1,125 @@
+//! `kinscene plan --robot URDF|gen3`: the hierarchical planner (task order refined by motion
+//! planning, [`kinscene::planner`]) behind `plan`.
+//!
+//! The document is [`kinscene::planner::MotionDocument`]: the task plan document plus, per
+//! step, the base path, the base pose, the arm paths, the manipulation trajectory and their
+//! timing, and the moves the motion layer vetoed. Exit codes as `plan`.
+
+use std::io::Write;
+use std::path::Path;
+use std::time::Duration;
+
+use kinscene::scene::SceneModel;
+use kinscene::task::{Problem, TaskSettings};
+
+use crate::{CliError, Verdict};
+
+/// Plans with motion for `robot` (a URDF path, or `gen3`) and writes the document to
+/// `out_path` or `out`.
+///
+/// # Errors
+/// An unreadable or malformed robot URDF, a goal without a robot start pose, a backend
+/// failure, or an output file that cannot be written; without the `ompl`, `pinocchio` and
+/// `casadi` features, any use.
+#[allow(clippy::too_many_arguments)]
+pub fn run(
+    robot: &Path,
+    goal: &Path,
+    model: &SceneModel,
+    problem: &Problem,
+    settings: TaskSettings,
+    budget: (Duration, &str),
+    out_path: Option<&Path>,
+    out: &mut dyn Write,
+) -> Result<Verdict, CliError> {
+    imp::run(robot, goal, model, problem, settings, budget, out_path, out)
+}
+
+#[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
+mod imp {
+    use super::*;
+    use kinscene::kinematics::robot::RobotModel;
+    use kinscene::planner::{
+        HierarchicalPlanner, MotionDocument, MotionOutcome, PlannerError, PlannerSettings,
+    };
+    use kinscene::task::Termination;
+
+    #[allow(clippy::too_many_arguments)]
+    pub fn run(
+        robot: &Path,
+        goal: &Path,
+        model: &SceneModel,
+        problem: &Problem,
+        settings: TaskSettings,
+        (budget, budget_text): (Duration, &str),
+        out_path: Option<&Path>,
+        out: &mut dyn Write,
+    ) -> Result<Verdict, CliError> {
+        let robot_model = if robot.as_os_str() == "gen3" {
+            RobotModel::kinova_gen3_mobile()
+        } else {
+            RobotModel::from_urdf_file(robot)
+                .map_err(|e| CliError::new(format!("{}: {e}", robot.display())))?
+        };
+        let name = robot_model.name().to_string();
+        let planner = HierarchicalPlanner::new(
+            robot_model,
+            PlannerSettings {
+                task: settings,
+                ..PlannerSettings::default()
+            },
+        )
+        .map_err(|e| CliError::new(format!("{}: {e}", robot.display())))?;
+        let termination = Termination::after(budget);
+        let result = planner
+            .plan(model, problem, &termination)
+            .map_err(|e| match e {
+                PlannerError::Task(_) | PlannerError::InvalidSetting { .. } => {
+                    CliError::new(format!("{}: {e}", goal.display()))
+                }
+                e => CliError::new(format!("planning failed: {e}")),
+            })?;
+        let document = MotionDocument::from_result(&result, &name);
+        let reason = document.plan.reason.clone().unwrap_or_default();
+        let verdict = match &result.outcome {
+            MotionOutcome::Solved(_) => Verdict::Success,
+            MotionOutcome::Infeasible { .. } => Verdict::Infeasible {
+                note: format!("infeasible: {reason}"),
+            },
+            MotionOutcome::Timeout { .. } => Verdict::Timeout {
+                note: format!("timeout after {budget_text}: {reason}"),
+            },
+        };
+        let json = document.to_json() + "\n";
+        match out_path {
+            Some(path) => std::fs::write(path, json)
+                .map_err(|e| CliError::new(format!("cannot write {}: {e}", path.display())))?,
+            None => out
+                .write_all(json.as_bytes())
+                .map_err(|e| CliError::new(format!("cannot write the plan: {e}")))?,
+        }
+        Ok(verdict)
+    }
+}
+
+#[cfg(not(all(feature = "ompl", feature = "pinocchio", feature = "casadi")))]
+mod imp {
+    use super::*;
+
+    #[allow(clippy::too_many_arguments)]
+    pub fn run(
+        _robot: &Path,
+        _goal: &Path,
+        _model: &SceneModel,
+        _problem: &Problem,
+        _settings: TaskSettings,
+        _budget: (Duration, &str),
+        _out_path: Option<&Path>,
+        _out: &mut dyn Write,
+    ) -> Result<Verdict, CliError> {
+        Err(CliError::new(
+            "--robot needs the ompl, pinocchio and casadi features (this binary was built \
+             without them)",
+        ))
+    }
+}

@@ -1,0 +1,180 @@
+//! The plan document with motion: the task plan document plus, per step, paths and timing.
+//!
+//! # Schema (JSON)
+//! Every field of the task plan document ([`PlanFile`], see [`crate::task`]'s plan module)
+//! at the top level, plus:
+//! ```json
+//! {
+//!   "robot": "kinova_gen3_mobile",
+//!   "duration": 41.2,                 // total execution time (s), steps one after another
+//!   "task_plans": 2,                  // task orders proposed before one refined
+//!   "motion": [                       // solved: one entry per step, same order as "steps"
+//!     { "joint": "dishwasher_door_hinge", "from": 0.0, "to": 1.2,
+//!       "handle": "dishwasher_door_handle",
+//!       "base": [1.7, 1.9, -1.57],    // base pose of the manipulation: x (m), y (m), yaw (rad)
+//!       "timing": { "base": 6.1, "approach": 2.3, "manipulation": 4.0, "retreat": 2.2 },  // s
+//!       "base_path":    { "times": [0.0, ...], "positions": [[x, y, yaw], ...] },
+//!       "approach":     { "times": [...], "positions": [[q1, ..., q7], ...] },   // rad
+//!       "manipulation": { "times": [...], "positions": [...] },  // K+1 waypoints on the handle trajectory
+//!       "retreat":      { "times": [...], "positions": [...] } }
+//!   ],
+//!   "vetoes": [                        // moves the motion layer rejected, in the order found
+//!     { "step": 0, "joint": "...", "from": 0.0, "to": 1.2,
+//!       "check": "placement" | "base_path" | "approach" | "manipulation" | "retreat" | "stopped",
+//!       "reason": "..." }
+//!   ]
+//! }
+//! ```
+//! `times` are the waypoints' times (s) from the start of the phase under the time
+//! parameterisation ([`crate::motion::timing`]); positions between them follow its profile.
+
+use serde::{Deserialize, Serialize};
+
+use super::{MotionOutcome, PlannerResult, StepFailure, StepMotion, StepTiming};
+use crate::motion::timing::TimedPath;
+use crate::task::{Outcome, PlanFile, PlanResult, PlanStatus};
+
+/// A timed path in the document: waypoints and their times.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PathDocument {
+    /// Time (s) of each waypoint from the start of the phase.
+    pub times: Vec<f64>,
+    /// The waypoints.
+    pub positions: Vec<Vec<f64>>,
+}
+
+impl From<&TimedPath> for PathDocument {
+    fn from(p: &TimedPath) -> Self {
+        PathDocument {
+            times: p.times.clone(),
+            positions: p.positions.clone(),
+        }
+    }
+}
+
+/// The motion of one step in the document.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StepDocument {
+    /// The joint moved.
+    pub joint: String,
+    /// Its value before (rad or m).
+    pub from: f64,
+    /// Its value after (rad or m).
+    pub to: f64,
+    /// The handle grasped.
+    pub handle: String,
+    /// Base pose of the manipulation: x (m), y (m), yaw (rad).
+    pub base: [f64; 3],
+    /// Execution times of the phases (s).
+    pub timing: StepTiming,
+    /// Base path (x, y, yaw).
+    pub base_path: PathDocument,
+    /// Arm: stowed to grasp.
+    pub approach: PathDocument,
+    /// Arm along the handle trajectory.
+    pub manipulation: PathDocument,
+    /// Arm: back to stowed.
+    pub retreat: PathDocument,
+}
+
+impl From<&StepMotion> for StepDocument {
+    fn from(s: &StepMotion) -> Self {
+        StepDocument {
+            joint: s.joint.clone(),
+            from: s.from,
+            to: s.to,
+            handle: s.handle.clone(),
+            base: s.base,
+            timing: s.timing,
+            base_path: (&s.base_path).into(),
+            approach: (&s.approach).into(),
+            manipulation: (&s.manipulation).into(),
+            retreat: (&s.retreat).into(),
+        }
+    }
+}
+
+/// The plan document with motion (schema in the module docs).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MotionDocument {
+    /// The task-level document: status, steps, cost, reason, conflicts, stats.
+    #[serde(flatten)]
+    pub plan: PlanFile,
+    /// The robot's name.
+    pub robot: String,
+    /// Total execution time (s).
+    #[serde(default)]
+    pub duration: f64,
+    /// Task orders proposed.
+    #[serde(default)]
+    pub task_plans: usize,
+    /// Per step: paths and timing (solved only).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub motion: Vec<StepDocument>,
+    /// Moves the motion layer vetoed.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub vetoes: Vec<StepFailure>,
+}
+
+impl MotionDocument {
+    /// The document for a planner result.
+    pub fn from_result(result: &PlannerResult, robot: &str) -> Self {
+        let stats = result.task_stats.clone();
+        let (plan, motion, vetoes, duration) = match &result.outcome {
+            MotionOutcome::Solved(p) => {
+                let file = PlanFile::from_result(&PlanResult {
+                    outcome: Outcome::Solved(p.task.clone()),
+                    stats,
+                });
+                let motion = p.steps.iter().map(StepDocument::from).collect();
+                (file, motion, Vec::new(), p.duration())
+            }
+            MotionOutcome::Infeasible { task, vetoes } => {
+                let mut file = PlanFile::from_result(&PlanResult {
+                    outcome: Outcome::Infeasible(task.clone()),
+                    stats,
+                });
+                if let Some(first) = vetoes.first() {
+                    let reason = file.reason.take().unwrap_or_default();
+                    file.reason = Some(format!(
+                        "{reason}; the motion layer vetoed {} move(s), first: {first}",
+                        vetoes.len()
+                    ));
+                }
+                (file, Vec::new(), vetoes.clone(), 0.0)
+            }
+            MotionOutcome::Timeout { reason, vetoes } => {
+                let file = PlanFile {
+                    status: PlanStatus::Timeout,
+                    steps: Vec::new(),
+                    cost: 0.0,
+                    reason: Some(reason.clone()),
+                    conflicts: Vec::new(),
+                    stats: Some(stats),
+                };
+                (file, Vec::new(), vetoes.clone(), 0.0)
+            }
+        };
+        MotionDocument {
+            plan,
+            robot: robot.to_string(),
+            duration,
+            task_plans: result.task_plans,
+            motion,
+            vetoes,
+        }
+    }
+
+    /// Parses a document.
+    ///
+    /// # Errors
+    /// serde_json's message (line and column).
+    pub fn from_json(text: &str) -> Result<Self, serde_json::Error> {
+        serde_json::from_str(text)
+    }
+
+    /// The document as pretty JSON.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap_or_default()
+    }
+}

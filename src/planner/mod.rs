@@ -1,0 +1,481 @@
+//! The hierarchical planner: task-level sequencing refined by motion planning, end to end.
+//!
+//! One call, [`HierarchicalPlanner::plan`], turns (scene, robot, start, goal) into an executable
+//! plan: for every single-joint change, the base path, the base pose, the arm path to the handle,
+//! the manipulation trajectory in joint space, the retreat, and their timing — or the reason it
+//! cannot.
+//!
+//! # How the layers meet (lazy refinement)
+//! 1. The task search ([`crate::task::plan`]) proposes the cheapest order of single-joint changes
+//!    that passes its checks (part collisions, grid paths).
+//! 2. This layer refines the steps **in order**, replaying the robot: arm stowed, base driven to
+//!    the chosen pose, arm to the grasp, the handle trajectory, the arm back to its stowed
+//!    configuration (see [`StepMotion`]).
+//! 3. When a step cannot be refined, its move is **vetoed in that state** — the task search is
+//!    given a [`Refiner`](crate::task::Refiner) that answers from the table of vetoes, with the
+//!    blockers unknown, so every joint may move to work around it — and the search runs again.
+//!    It returns a different order (possibly with extra moves, such as closing a door the arm
+//!    hits), or proves that none is left.
+//!
+//! Each round adds one (state, move) to the table, and the lattice is finite, so the loop ends;
+//! a veto depends only on the state and the move, which keeps the task search's completeness over
+//! the moves that refine (the verdicts of the motion layer themselves are those of sampling-based
+//! planners with a budget: a failure there means "not found", not "impossible").
+//!
+//! One approximation: whether the *base path* to a move exists also depends on where the robot
+//! comes from, which is not part of the task state; a base-path failure is nevertheless vetoed
+//! for the state. The task layer's grid path check makes such failures rare.
+
+mod document;
+mod settings;
+mod step;
+
+pub use document::{MotionDocument, StepDocument};
+pub use settings::PlannerSettings;
+pub use step::{Check, StepFailure, StepMotion, StepTiming};
+
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+use nalgebra::DVector;
+
+use crate::kinematics::ik::{IkError, IkSolver};
+use crate::kinematics::robot::{RobotCollision, RobotConfig, RobotError, RobotModel};
+use crate::motion::paths::PathError;
+use crate::motion::placement::{PlacementData, PlacementError};
+use crate::motion::timing::TimingError;
+use crate::scene::{JointId, Parent, PartId, SceneModel, State};
+use crate::task::{
+    self, Infeasibility, MoveContext, Outcome, Plan, Problem, Refinement, SearchStats, Termination,
+};
+
+/// Errors of the hierarchical planner: bad input and broken backends only.
+#[non_exhaustive]
+#[derive(Debug, thiserror::Error)]
+pub enum PlannerError {
+    /// The scene model rejected a query.
+    #[error("scene: {0}")]
+    Scene(#[from] crate::scene::Error),
+    /// The task layer rejected its input.
+    #[error("task: {0}")]
+    Task(#[from] crate::task::Error),
+    /// The robot model rejected its input.
+    #[error("robot: {0}")]
+    Robot(#[from] RobotError),
+    /// Inverse kinematics rejected its input or its backend failed.
+    #[error("IK: {0}")]
+    Ik(#[from] IkError),
+    /// Base placement rejected its input or its backend failed.
+    #[error("placement: {0}")]
+    Placement(#[from] PlacementError),
+    /// Path planning rejected its input or OMPL failed.
+    #[error("paths: {0}")]
+    Path(#[from] PathError),
+    /// Time parameterisation rejected its input.
+    #[error("timing: {0}")]
+    Timing(#[from] TimingError),
+    /// A setting is out of range.
+    #[error("invalid setting {name}: {message}")]
+    InvalidSetting {
+        /// The setting.
+        name: &'static str,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+/// An executable plan: the task plan and, step by step, its motion.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MotionPlan {
+    /// The order of single-joint changes.
+    pub task: Plan,
+    /// The motion of every step, in order (`steps[i]` refines `task.steps[i]`).
+    pub steps: Vec<StepMotion>,
+}
+
+impl MotionPlan {
+    /// Total execution time (s): base and arm motions of all steps, executed one after another.
+    pub fn duration(&self) -> f64 {
+        self.steps.iter().map(|s| s.timing.total()).sum()
+    }
+}
+
+/// The verdict of the hierarchical planner.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MotionOutcome {
+    /// Every step refined.
+    Solved(MotionPlan),
+    /// No order of moves refines: the task search ran out of orders once the vetoes were
+    /// added. `task` is its report; `vetoes` says which step failed which check in the orders
+    /// tried.
+    Infeasible {
+        /// The task search's infeasibility report (after the vetoes).
+        task: Infeasibility,
+        /// The motion failures that vetoed moves, in the order they were found.
+        vetoes: Vec<StepFailure>,
+    },
+    /// The budget or the cancel flag stopped the planner.
+    Timeout {
+        /// What was being done.
+        reason: String,
+        /// The motion failures found so far.
+        vetoes: Vec<StepFailure>,
+    },
+}
+
+/// [`MotionOutcome`] plus statistics.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlannerResult {
+    /// The verdict.
+    pub outcome: MotionOutcome,
+    /// Task plans proposed (1 when the first order refined).
+    pub task_plans: usize,
+    /// Statistics of the last task search.
+    pub task_stats: SearchStats,
+    /// Time spent in the task search (s).
+    pub task_time: f64,
+    /// Time spent refining (s).
+    pub motion_time: f64,
+}
+
+/// A vetoed move and the states it is vetoed in: every state that agrees with the failed one on
+/// the `fixed` joints (values compared bit for bit, as the task search produces them from its
+/// lattice). A failure whose causes are known (parts the robot collided with, and the moved
+/// part's ancestors, which place its axis) fixes only those joints, so the search does not
+/// refine the same hopeless move again in states that differ elsewhere; an unattributed failure
+/// fixes every joint.
+#[derive(Debug, Clone, PartialEq)]
+struct VetoRule {
+    joint: usize,
+    from: u64,
+    to: u64,
+    fixed: Vec<(usize, u64)>,
+    /// The parts whose configuration may matter (`None`: unknown, every joint may).
+    blockers: Option<Vec<PartId>>,
+    reason: String,
+}
+
+impl VetoRule {
+    fn new(
+        model: &SceneModel,
+        state: &State,
+        joint: JointId,
+        to: f64,
+        causes: Option<&[PartId]>,
+        reason: String,
+    ) -> Self {
+        let values = state.as_slice();
+        let from = values[joint.index()];
+        let fixed: Vec<(usize, u64)> = match causes {
+            None => values
+                .iter()
+                .enumerate()
+                .map(|(i, v)| (i, v.to_bits()))
+                .collect(),
+            Some(parts) => {
+                let mut joints: Vec<usize> = parts.iter().map(|p| p.joint().index()).collect();
+                joints.extend(ancestors(model, joint.part()).map(|p| p.joint().index()));
+                joints.sort_unstable();
+                joints.dedup();
+                joints
+                    .into_iter()
+                    .map(|j| (j, values[j].to_bits()))
+                    .collect()
+            }
+        };
+        VetoRule {
+            joint: joint.index(),
+            from: from.to_bits(),
+            to: to.to_bits(),
+            fixed,
+            blockers: causes.map(<[PartId]>::to_vec),
+            reason,
+        }
+    }
+
+    fn matches(&self, state: &State, joint: JointId, to: f64) -> bool {
+        let values = state.as_slice();
+        self.joint == joint.index()
+            && self.to == to.to_bits()
+            && values.get(self.joint).map(|v| v.to_bits()) == Some(self.from)
+            && self
+                .fixed
+                .iter()
+                .all(|(j, v)| values.get(*j).map(|x| x.to_bits()) == Some(*v))
+    }
+}
+
+/// The ancestors of `part` (parent first), not the part itself.
+fn ancestors(model: &SceneModel, part: PartId) -> impl Iterator<Item = PartId> + '_ {
+    let mut next = model.part(part).and_then(|p| match p.parent() {
+        Parent::Part(q) => Some(q),
+        Parent::Base => None,
+    });
+    std::iter::from_fn(move || {
+        let current = next?;
+        next = model.part(current).and_then(|p| match p.parent() {
+            Parent::Part(q) => Some(q),
+            Parent::Base => None,
+        });
+        Some(current)
+    })
+}
+
+/// Task search plus motion refinement for one robot. Build once, plan many times; the robot's
+/// collision model and IK solver are shared by all calls (`Send + Sync`).
+#[derive(Debug)]
+pub struct HierarchicalPlanner {
+    robot: RobotModel,
+    collision: RobotCollision,
+    ik: IkSolver,
+    settings: PlannerSettings,
+    /// The compiled placement NLP, reused between steps and calls.
+    placement: Mutex<PlacementData>,
+}
+
+impl HierarchicalPlanner {
+    /// A planner for `robot`.
+    ///
+    /// # Errors
+    /// Invalid settings; a robot whose collision model or IK solver cannot be built.
+    pub fn new(robot: RobotModel, settings: PlannerSettings) -> Result<Self, PlannerError> {
+        settings.validate(&robot)?;
+        let collision = RobotCollision::new(&robot)?;
+        let ik = IkSolver::new(robot.pinocchio(), robot.tool_frame(), settings.ik.clone())?;
+        Ok(HierarchicalPlanner {
+            robot,
+            collision,
+            ik,
+            settings,
+            placement: Mutex::new(PlacementData::new()),
+        })
+    }
+
+    /// The robot.
+    pub fn robot(&self) -> &RobotModel {
+        &self.robot
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &PlannerSettings {
+        &self.settings
+    }
+
+    /// The arm configuration the robot drives with and returns to after every step.
+    pub fn stow(&self) -> DVector<f64> {
+        self.settings
+            .stow
+            .clone()
+            .unwrap_or_else(|| self.robot.neutral())
+    }
+
+    /// Plans `problem` in `model`: the task order and the motion of every step.
+    ///
+    /// The task level checks paths for the disc of `problem.robot.radius` (default 0.3 m); the
+    /// base paths of this layer check the robot's real geometry (chassis and stowed arm), so a
+    /// disc smaller than the robot's footprint costs refinement rounds (vetoed base paths), not
+    /// soundness. The start base pose is `problem.robot.base`, or the task level's choice when it
+    /// is `None` (yaw 0); the arm starts stowed.
+    ///
+    /// # Errors
+    /// Only for bad input or a broken backend (see [`PlannerError`]). Infeasible goals and
+    /// exhausted budgets are [`MotionOutcome`]s.
+    pub fn plan(
+        &self,
+        model: &SceneModel,
+        problem: &Problem,
+        termination: &Termination<'_>,
+    ) -> Result<PlannerResult, PlannerError> {
+        let vetoes: Mutex<Vec<VetoRule>> = Mutex::new(Vec::new());
+        let mut failures: Vec<StepFailure> = Vec::new();
+        let mut task_plans = 0;
+        let mut task_time = 0.0;
+        let mut motion_time = 0.0;
+        let refiner = |ctx: &MoveContext<'_>| {
+            let table = vetoes.lock().unwrap_or_else(|e| e.into_inner());
+            match table
+                .iter()
+                .find(|r| r.matches(ctx.state, ctx.joint, ctx.to))
+            {
+                Some(rule) => Refinement::Veto {
+                    reason: rule.reason.clone(),
+                    blockers: rule.blockers.clone(),
+                },
+                None => Refinement::Accept,
+            }
+        };
+        loop {
+            if termination.should_stop() {
+                return Ok(self.timeout(
+                    "budget exhausted between task plans",
+                    failures,
+                    task_plans,
+                    SearchStats::default(),
+                    task_time,
+                    motion_time,
+                ));
+            }
+            let t0 = Instant::now();
+            let result = task::plan(model, problem, &self.settings.task, &refiner, termination)?;
+            task_time += t0.elapsed().as_secs_f64();
+            task_plans += 1;
+            let plan = match result.outcome {
+                Outcome::Solved(plan) => plan,
+                Outcome::Infeasible(why) => {
+                    return Ok(PlannerResult {
+                        outcome: MotionOutcome::Infeasible {
+                            task: why,
+                            vetoes: failures,
+                        },
+                        task_plans,
+                        task_stats: result.stats,
+                        task_time,
+                        motion_time,
+                    });
+                }
+                Outcome::Timeout(partial) => {
+                    let reason = format!(
+                        "budget exhausted in the task search; unmet goal joints: {}",
+                        partial.unmet.join(", ")
+                    );
+                    return Ok(self.timeout(
+                        &reason,
+                        failures,
+                        task_plans,
+                        result.stats,
+                        task_time,
+                        motion_time,
+                    ));
+                }
+            };
+            let t1 = Instant::now();
+            let refined = self.refine_plan(model, problem, &plan, termination)?;
+            motion_time += t1.elapsed().as_secs_f64();
+            match refined {
+                Refined::All(steps) => {
+                    return Ok(PlannerResult {
+                        outcome: MotionOutcome::Solved(MotionPlan { task: plan, steps }),
+                        task_plans,
+                        task_stats: result.stats,
+                        task_time,
+                        motion_time,
+                    });
+                }
+                Refined::Failed { rule, failure } => {
+                    vetoes.lock().unwrap_or_else(|e| e.into_inner()).push(rule);
+                    failures.push(failure);
+                }
+                Refined::Stopped(reason) => {
+                    return Ok(self.timeout(
+                        &reason,
+                        failures,
+                        task_plans,
+                        result.stats,
+                        task_time,
+                        motion_time,
+                    ));
+                }
+            }
+        }
+    }
+
+    fn timeout(
+        &self,
+        reason: &str,
+        vetoes: Vec<StepFailure>,
+        task_plans: usize,
+        task_stats: SearchStats,
+        task_time: f64,
+        motion_time: f64,
+    ) -> PlannerResult {
+        PlannerResult {
+            outcome: MotionOutcome::Timeout {
+                reason: reason.to_string(),
+                vetoes,
+            },
+            task_plans,
+            task_stats,
+            task_time,
+            motion_time,
+        }
+    }
+
+    /// Refines the steps of `plan` in order.
+    fn refine_plan(
+        &self,
+        model: &SceneModel,
+        problem: &Problem,
+        plan: &Plan,
+        termination: &Termination<'_>,
+    ) -> Result<Refined, PlannerError> {
+        let mut state = problem.start.clone();
+        let stow = self.stow();
+        let start_base = match (problem.robot.base, plan.steps.first()) {
+            (Some(b), _) => b,
+            (None, Some(first)) => step::start_base_of(model, &state, first, &problem.robot)?,
+            (None, None) => [0.0; 3],
+        };
+        let mut robot = RobotConfig {
+            base: start_base,
+            arm: stow.clone(),
+        };
+        let mut steps = Vec::with_capacity(plan.steps.len());
+        for (index, s) in plan.steps.iter().enumerate() {
+            if termination.should_stop() {
+                return Ok(Refined::Stopped(format!(
+                    "budget exhausted refining step {} of {}",
+                    index + 1,
+                    plan.steps.len()
+                )));
+            }
+            let joint = model.joint_id(&s.joint)?;
+            let ctx = step::StepContext {
+                robot: &self.robot,
+                collision: &self.collision,
+                ik: &self.ik,
+                settings: &self.settings,
+                model,
+                stow: &stow,
+                placement: &self.placement,
+                termination,
+            };
+            match step::refine(&ctx, index, &state, joint, s, &robot)? {
+                Ok(motion) => {
+                    robot.base = motion.base;
+                    state.set(model, joint, s.to)?;
+                    steps.push(motion);
+                }
+                Err((failure, _)) if failure.check == Check::Stopped => {
+                    return Ok(Refined::Stopped(failure.to_string()));
+                }
+                Err((failure, causes)) => {
+                    let rule = VetoRule::new(
+                        model,
+                        &state,
+                        joint,
+                        s.to,
+                        causes.as_deref(),
+                        failure.to_string(),
+                    );
+                    return Ok(Refined::Failed { rule, failure });
+                }
+            }
+        }
+        Ok(Refined::All(steps))
+    }
+}
+
+/// How refining a task plan ended.
+enum Refined {
+    All(Vec<StepMotion>),
+    Failed {
+        rule: VetoRule,
+        failure: StepFailure,
+    },
+    Stopped(String),
+}
+
+/// Time left before `termination`'s deadline, capped at `cap`.
+pub(crate) fn budget_left(termination: &Termination<'_>, cap: Duration) -> Duration {
+    termination.remaining().map_or(cap, |left| left.min(cap))
+}

@@ -1,0 +1,108 @@
+//! Settings of the hierarchical planner.
+
+use nalgebra::DVector;
+
+use super::PlannerError;
+use crate::kinematics::ik::IkSettings;
+use crate::kinematics::robot::RobotModel;
+use crate::motion::paths::PathSettings;
+use crate::motion::placement::PlacementSettings;
+use crate::task::TaskSettings;
+
+/// Settings of [`HierarchicalPlanner`](super::HierarchicalPlanner): one block per layer plus
+/// the checks this layer adds.
+#[derive(Debug, Clone)]
+pub struct PlannerSettings {
+    /// The task search (strategy, lattice, costs, manipulation regions).
+    pub task: TaskSettings,
+    /// Inverse kinematics.
+    pub ik: IkSettings,
+    /// Base placement and the manipulation trajectory.
+    pub placement: PlacementSettings,
+    /// OMPL settings of the base and arm paths (the budget is per path, capped by what is
+    /// left of the overall budget).
+    pub paths: PathSettings,
+    /// Clearance (m) the robot keeps from the scene along base paths and arm paths, > 0
+    /// recommended (default 0.02 m: the Gen3's points move at most about 1.6 cm per 0.01 rad
+    /// of joint motion, so OMPL's and the re-check's discrete checks keep real clearance). The grasped part (and its descendants) is exempt while the
+    /// arm approaches, manipulates and leaves it.
+    pub margin: f64,
+    /// Arm configuration for driving and between steps; `None`: [`RobotModel::neutral`].
+    pub stow: Option<DVector<f64>>,
+    /// Spacing of the independent dense re-check of every arm path and the manipulation
+    /// trajectory (rad, largest joint change between checked configurations), default 0.01.
+    pub arm_check_resolution: f64,
+    /// Spacing of the dense re-check of base paths (m, with yaw scaled by the footprint
+    /// radius), default 0.02.
+    pub base_check_resolution: f64,
+}
+
+impl Default for PlannerSettings {
+    fn default() -> Self {
+        PlannerSettings {
+            task: TaskSettings::default(),
+            ik: IkSettings::default(),
+            placement: PlacementSettings::default(),
+            paths: PathSettings::default(),
+            margin: 0.02,
+            stow: None,
+            arm_check_resolution: 0.01,
+            base_check_resolution: 0.02,
+        }
+    }
+}
+
+impl PlannerSettings {
+    /// Checks the settings against `robot`.
+    ///
+    /// # Errors
+    /// [`PlannerError::InvalidSetting`] naming the setting; the layers' own errors for their
+    /// blocks.
+    pub fn validate(&self, robot: &RobotModel) -> Result<(), PlannerError> {
+        self.task.validate()?;
+        self.ik.validate()?;
+        self.placement.validate()?;
+        self.paths.validate()?;
+        let positive = |name: &'static str, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(PlannerError::InvalidSetting {
+                    name,
+                    message: format!("{v} must be finite and > 0"),
+                })
+            }
+        };
+        positive("arm_check_resolution", self.arm_check_resolution)?;
+        positive("base_check_resolution", self.base_check_resolution)?;
+        if !(self.margin.is_finite() && self.margin >= 0.0) {
+            return Err(PlannerError::InvalidSetting {
+                name: "margin",
+                message: format!("{} must be finite and >= 0", self.margin),
+            });
+        }
+        if let Some(stow) = &self.stow {
+            let (lower, upper) = robot.arm_bounds();
+            if stow.len() != robot.dof() {
+                return Err(PlannerError::InvalidSetting {
+                    name: "stow",
+                    message: format!("{} values for a {}-joint arm", stow.len(), robot.dof()),
+                });
+            }
+            for (i, v) in stow.iter().enumerate() {
+                if !(v.is_finite() && *v >= lower[i] && *v <= upper[i]) {
+                    return Err(PlannerError::InvalidSetting {
+                        name: "stow",
+                        message: format!(
+                            "joint {:?} at {v} is outside [{}, {}]",
+                            robot.arm_joints()[i].name,
+                            lower[i],
+                            upper[i]
+                        ),
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+}
