@@ -13,20 +13,26 @@ pub enum Error {
     /// Task-level sequencing: goals, settings, plan documents.
     #[error("task: {0}")]
     Task(#[from] crate::task::Error),
-    /// Robot and scene kinematics (Pinocchio).
-    #[cfg(feature = "pinocchio")]
+    /// Robot kinematics and IK (Pinocchio), articulation estimation.
     #[error("kinematics: {0}")]
     Kinematics(#[from] crate::kinematics::Error),
     /// Base and arm motion planning and optimisation (OMPL, CasADi/IPOPT).
     #[cfg(any(feature = "ompl", feature = "casadi"))]
     #[error("motion: {0}")]
     Motion(#[from] crate::motion::Error),
+    /// The hierarchical planner (task search refined by motion planning).
+    #[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
+    #[error("planner: {0}")]
+    Planner(#[from] crate::planner::PlannerError),
+    /// The articulation discovery stage.
+    #[error("discovery: {0}")]
+    Discovery(#[from] crate::discovery::DiscoveryError),
 }
 
 /// Lets `?` lift a backend error straight into the crate error.
 macro_rules! lift {
-    ($feature:literal, $backend:ty => $layer:ident :: $variant:ident => $outer:ident) => {
-        #[cfg(feature = $feature)]
+    ($feature:meta, $backend:ty => $layer:ident :: $variant:ident => $outer:ident) => {
+        #[cfg($feature)]
         impl From<$backend> for Error {
             fn from(e: $backend) -> Self {
                 Error::$outer(crate::$layer::Error::$variant(e))
@@ -34,6 +40,12 @@ macro_rules! lift {
         }
     };
 }
-lift!("pinocchio", kinscene_pinocchio::Error => kinematics::Pinocchio => Kinematics);
-lift!("ompl", kinscene_ompl::Error => motion::Ompl => Motion);
-lift!("casadi", kinscene_casadi::Error => motion::Casadi => Motion);
+lift!(feature = "pinocchio", kinscene_pinocchio::Error => kinematics::Pinocchio => Kinematics);
+lift!(feature = "pinocchio", crate::kinematics::robot::RobotError => kinematics::Robot => Kinematics);
+lift!(feature = "pinocchio", crate::kinematics::ik::IkError => kinematics::Ik => Kinematics);
+lift!(all(), crate::kinematics::articulation::ArticulationError => kinematics::Articulation => Kinematics);
+lift!(feature = "ompl", kinscene_ompl::Error => motion::Ompl => Motion);
+lift!(feature = "casadi", kinscene_casadi::Error => motion::Casadi => Motion);
+lift!(all(feature = "ompl", feature = "pinocchio", feature = "casadi"), crate::motion::paths::PathError => motion::Path => Motion);
+lift!(all(feature = "ompl", feature = "pinocchio", feature = "casadi"), crate::motion::timing::TimingError => motion::Timing => Motion);
+lift!(all(feature = "ompl", feature = "pinocchio", feature = "casadi"), crate::motion::placement::PlacementError => motion::Placement => Motion);

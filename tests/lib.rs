@@ -3,5 +3,12 @@
 mod backends;
 #[cfg(feature = "cli")]
 mod cli;
+mod discovery;
+#[cfg(feature = "pinocchio")]
+mod kinematics;
+#[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
+mod motion;
+#[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
+mod planner;
 mod scene;
 mod task;

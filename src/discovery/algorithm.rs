@@ -1,0 +1,210 @@
+//! Algorithm 1 (articulation discovery) as a library function: [`discover`].
+
+use std::collections::BTreeMap;
+
+use nalgebra::Isometry3;
+use serde::{Deserialize, Serialize};
+
+use super::error::{DiscoveryError, check_finite};
+use super::fusion::MappedHandle;
+use super::interface::Robot;
+use super::log::{HandleLog, Outcome, Stage};
+use super::placement::FreeSpace;
+use super::run::Run;
+use super::settings::DiscoverySettings;
+use crate::kinematics::articulation::ArticulationEstimator;
+use crate::scene::{BaseMap, SceneModel, SceneModelBuilder, State};
+
+/// The result of [`discover`]: the scene model M, the state the scene was left in, and what
+/// happened to every handle.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Discovery {
+    /// The base map plus one registered part per successfully explored handle.
+    pub model: SceneModel,
+    /// The estimated current state: each explored part at the opening it was left at (the
+    /// exploration does not close what it opened).
+    pub state: State,
+    /// One entry per input handle, in input order.
+    pub log: Vec<HandleLog>,
+}
+
+/// Algorithm 1: explores every handle physically and builds the scene-level articulation
+/// model M from the base map `base` and one registered part per handle whose exploration and
+/// estimation succeeded.
+///
+/// Per handle `h` (in input order; see [`fuse_detections`](super::fuse_detections) for the
+/// order it produces):
+/// 1. **PlanBase(h)**: the base pose facing `h` at `approach_distance` along the handle's
+///    registered normal (its horizontal part; for a nearly vertical normal, the direction
+///    from the handle to the robot), free in the current scene's navigation grid inflated by
+///    `robot_radius`; if the nominal position is occupied, the nearest free position on rings
+///    around the handle (turns up to ±60°, distance changes up to `base_search_radius`).
+///    No pose: a [`Stage::Navigation`] failure.
+/// 2. **GlobalNavTo**, then **DetectHandle**: the detection nearest to `h` within
+///    `redetect_radius`. A navigation failure is [`Stage::Navigation`]; no detection (or no
+///    observation) is [`Stage::Mapping`] (the mapped handle was not real where mapped).
+///    The surface normal is refined by a plane fit to the observation around the detection
+///    (kept if within 45° of the registered normal).
+/// 3. **PlanBase(p)** at `interaction_distance`; then up to `max_attempts` attempts:
+///    **LocalNavTo(b_pre)** tracking the handle, the pre-interaction observation `o_pre`
+///    (`observation_camera`), the grasp (approach against the normal) and up to `max_steps`
+///    pull steps of `step` metres, each preceded by:
+///    - **DetectFailure**: a new observation from the same camera; the mean distance from its
+///      points within `displacement_radius` of the contact to their nearest neighbours in
+///      `o_pre` (each capped at `displacement_cap`) is the part's displacement. Still below
+///      `displacement_threshold` after `stall_steps` steps is a failure (the part does not
+///      move: a slipped grasp, a wrong direction, no joint). Hardware failure signals
+///      (grasp, pull) are failures too, except when the contact is already `sufficient_pull`
+///      from the first grasp point with the part displaced: then the attempt ends as a
+///      success.
+///    - **GetComplianceAction**: the surface normal from a robust plane fit (PCA, one
+///      inlier refit) to the `interaction_camera` observation within `normal_radius` of the
+///      contact, oriented towards the sensor; the pull direction is
+///      `surface_weight · n + (1 − surface_weight) · m̂`, with `m̂` the direction of the
+///      contact's last step (the surface predicts the part's motion — for a door the
+///      surface normal at the handle is tangent to its arc; the motion so far smooths noise).
+///
+///    The attempt succeeds when the contact is `target_pull` from the handle's first grasp
+///    point (the opening over all attempts so far), or all steps ran with the part displaced.
+///    A failed local navigation or pre-interaction observation uses up an attempt; the next
+///    one retries from the same pose. If every attempt failed at local navigation, the handle
+///    is a [`Stage::Navigation`] failure, otherwise a [`Stage::Exploration`] failure.
+/// 4. **Reposition** after a failed attempt (the arm is retracted first): the motion seen is
+///    classified ([`MotionClass`](super::MotionClass)) from the tracked plane — the turn of
+///    the surface normal between the first and last step (the end effector's rotation when
+///    the plane was not tracked): at least `rotation_threshold` is revolute, left
+///    (clockwise seen from above) or right, or about a horizontal axis; otherwise a contact
+///    motion of at least `translation_threshold` is prismatic; a part that was not displaced
+///    is "no motion". The base then moves by `reposition_distance` (the paper's 30 cm):
+///    towards the side of the rotation for a left/right revolute joint, straight back for
+///    prismatic and horizontal-axis joints, and not at all for no motion (a plain retry);
+///    the move is shortened to 3/4, 1/2, 1/4 if the target is occupied. The next attempt grasps the
+///    handle where it now is, along the last tracked normal.
+/// 5. **Post-interaction observation** from a small step back (Algorithm 1, lines 24–27):
+///    after retracting, the base goes to `PlanBase(p)` at `interaction_distance +
+///    post_step_back` (if that fails, the observation is taken from where the robot is, and
+///    the log notes it).
+/// 6. **PredArticulation**: the estimator gets the first attempt's `o_pre` (the closed pose:
+///    retries add motion instead of restarting it — the listing overwrites `o_pre` per
+///    attempt, but only the closed pose can be registered as the joint's zero), `o_post`,
+///    the first grasp contact, the last contact, and every end-effector pose recorded while
+///    grasping. An `Unknown` estimate is a [`Stage::Estimation`] failure.
+/// 7. **Register**: the joint from the estimate, oriented so that the observed opening is
+///    positive — revolute: the axis through the foot of the perpendicular from the contact
+///    onto the estimated axis; prismatic: the axis through the contact. Its frame is aligned
+///    with the map frame at discovery time, so the part frame at value 0 is the closed pose
+///    observed before the interaction. Limits `[0, max(observed, default upper)]`
+///    (`default_revolute_upper`, `default_prismatic_upper`). One box collider: the oriented
+///    bounding box (PCA axes, extents trimmed by `box_trim`, at least `min_half_extent`) of
+///    the estimator's part points, or, if it returned fewer than 4, of the pre points that
+///    moved consistently with the estimated joint. One handle at the contact with the
+///    refined normal. The parent is the already registered part whose collider, at its
+///    current estimated pose, is within `nest_margin` of the contact (the nearest; ties to
+///    the deeper part) — a dishwasher rack reached through its open door — else the base
+///    map. Parts are named `part{i}` after the handle's input index, joints
+///    `part{i}_hinge` / `part{i}_slide`, handles `part{i}_handle`. A model the scene builder
+///    rejects is a [`Stage::Estimation`] failure.
+///
+/// The navigation grid includes the parts registered so far at their current opening, so
+/// later base poses avoid the doors left open. A mapped handle within `nest_margin` of a
+/// registered part's collider in its closed pose (where the mapping saw it) is carried along
+/// with the part's estimated motion before it is explored, so a handle on a door that was
+/// left open is looked for where it now is (and then nests on the door).
+///
+/// # Errors
+/// [`DiscoveryError::InvalidSetting`]; [`DiscoveryError::UnregisteredHandle`] for a handle
+/// without attachment; [`DiscoveryError::NonFinite`] for a NaN handle, pose or observation;
+/// [`DiscoveryError::Scene`] for an invalid base map; [`DiscoveryError::Estimator`] when the
+/// estimator rejects its input. Hardware and sensor failures, lost handles and unknown
+/// estimates are outcomes in the log.
+pub fn discover(
+    robot: &mut dyn Robot,
+    base: &BaseMap,
+    handles: &[MappedHandle],
+    estimator: &dyn ArticulationEstimator,
+    settings: &DiscoverySettings,
+) -> Result<Discovery, DiscoveryError> {
+    settings.validate()?;
+    for (index, h) in handles.iter().enumerate() {
+        check_finite(h.position.coords.iter().copied(), || {
+            format!("position of handle {index}")
+        })?;
+        let a = h
+            .attachment
+            .as_ref()
+            .ok_or(DiscoveryError::UnregisteredHandle { index })?;
+        check_finite(a.normal.iter().copied(), || {
+            format!("normal of handle {index}")
+        })?;
+    }
+    let mut builder = SceneModelBuilder {
+        base: base.clone(),
+        parts: Vec::new(),
+    };
+    let mut model = builder.build()?;
+    let mut values: BTreeMap<String, f64> = BTreeMap::new();
+    let mut log = Vec::with_capacity(handles.len());
+    let mut run = Run {
+        robot,
+        estimator,
+        s: settings,
+    };
+    // Where the handles are expected now: handles on an explored part move with it.
+    let mut pending: Vec<MappedHandle> = handles.to_vec();
+    for index in 0..pending.len() {
+        let h = pending[index].clone();
+        let state = state_of(&model, &values)?;
+        let free = FreeSpace::new(&model, &state, settings.robot_radius)?;
+        let (mut entry, part) = run.handle(index, &h, &model, &state, &free)?;
+        if let Some(part) = part {
+            let joint = part.spec.joint.name.clone();
+            let name = part.spec.name.clone();
+            builder.parts.push(part.spec.clone());
+            match builder.build() {
+                Ok(m) => {
+                    model = m;
+                    values.insert(joint, part.value);
+                    for later in &mut pending[index + 1..] {
+                        if part.carries(&later.position, settings.nest_margin) {
+                            carry(later, &part.world_motion);
+                            entry.notes.push(format!(
+                                "carried a mapped handle at {:?} along with {name}",
+                                later.position
+                            ));
+                        }
+                    }
+                }
+                Err(e) => {
+                    let spec = builder.parts.pop();
+                    entry.outcome = Outcome::Failed {
+                        stage: Stage::Estimation,
+                        reason: format!(
+                            "the scene builder rejected part {:?}: {e}",
+                            spec.map(|s| s.name).unwrap_or_default()
+                        ),
+                    };
+                }
+            }
+        }
+        log.push(entry);
+    }
+    let state = state_of(&model, &values)?;
+    Ok(Discovery { model, state, log })
+}
+
+/// Moves a mapped handle (position, attachment point and normal) by `motion`.
+fn carry(h: &mut MappedHandle, motion: &Isometry3<f64>) {
+    h.position = motion * h.position;
+    if let Some(a) = &mut h.attachment {
+        a.surface_point = motion * a.surface_point;
+        a.normal = motion * a.normal;
+    }
+}
+
+/// The model's state with the named joint values (clamped into the limits).
+fn state_of(model: &SceneModel, values: &BTreeMap<String, f64>) -> Result<State, DiscoveryError> {
+    Ok(State::from_values_clamped(
+        model,
+        values.iter().map(|(n, v)| (n.as_str(), *v)),
+    )?)
+}

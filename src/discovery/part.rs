@@ -1,0 +1,277 @@
+//! Register (Algorithm 1, last line): one estimated part and joint into the scene model.
+
+use nalgebra::{Isometry3, Point3, Translation3, Unit, UnitQuaternion, Vector3};
+
+use super::cloud::{VoxelIndex, connected_to, oriented_box};
+use super::settings::DiscoverySettings;
+use super::shapes::PlacedShape;
+use crate::kinematics::articulation::{Estimate, JointEstimate, PointCloud};
+use crate::scene::{
+    Handle, Joint, JointKind, Limits, PartSpec, SceneData, SceneModel, Shape, State,
+    forward_kinematics,
+};
+
+/// Moving points farther than this (m) from the contact are not used for the fallback
+/// segmentation (a kitchen front is at most about a metre wide).
+const SEGMENT_RADIUS: f64 = 1.0;
+/// Part points within this distance (m) of the contact seed the connectivity filter.
+const SEED_RADIUS: f64 = 0.06;
+/// Connectivity radius (m) of the part's points: points of one surface seen by a depth camera
+/// at a metre are millimetres to a centimetre apart; separate surfaces (the floor below a
+/// door) are farther.
+const CONNECTIVITY: f64 = 0.03;
+/// The fallback segmentation's change threshold is at least this multiple of the median
+/// pre → post nearest-neighbour distance (the sampling and noise scale of the scene).
+const NOISE_MULTIPLIER: f64 = 4.0;
+
+/// The observations of one explored handle, as the estimator saw them.
+pub(crate) struct Observed<'a> {
+    /// Pre-interaction observation (the closed pose).
+    pub pre: &'a PointCloud,
+    /// Post-interaction observation.
+    pub post: &'a PointCloud,
+    /// Contact before the interaction (m).
+    pub contact_pre: Point3<f64>,
+    /// Outward surface normal at the contact before the interaction (unit, map frame).
+    pub normal: Unit<Vector3<f64>>,
+}
+
+/// A part ready to add to the builder, with its current joint value.
+pub(crate) struct NewPart {
+    /// The part.
+    pub spec: PartSpec,
+    /// The joint value the part was left at (the observed opening, within the limits).
+    pub value: f64,
+    /// Notes for the log.
+    pub notes: Vec<String>,
+    /// The part's colliders placed at its pre-interaction (closed) pose, map frame.
+    pub closed: Vec<PlacedShape>,
+    /// The part's estimated motion from the closed pose to where it was left, map frame.
+    pub world_motion: Isometry3<f64>,
+}
+
+impl NewPart {
+    /// Whether `p` (map frame) lies within `margin` of the part's closed-pose colliders.
+    pub(crate) fn carries(&self, p: &Point3<f64>, margin: f64) -> bool {
+        self.closed.iter().any(|c| c.distance(p) <= margin)
+    }
+}
+
+/// Builds the part of handle `index` from `estimate` (see [`discover`](super::discover) for
+/// the rules). `Err` carries the reason the estimate cannot be registered.
+pub(crate) fn new_part(
+    index: usize,
+    estimate: &Estimate,
+    observed: &Observed<'_>,
+    model: &SceneModel,
+    state: &State,
+    s: &DiscoverySettings,
+) -> Result<NewPart, String> {
+    let mut notes = Vec::new();
+    let c = observed.contact_pre;
+    // Joint in the map frame, oriented so that the observed opening is positive.
+    let (kind, axis, origin, motion, default_upper) = match &estimate.joint {
+        JointEstimate::Revolute { axis, pivot, angle } => {
+            let a = axis.into_inner();
+            // The foot of the perpendicular from the contact onto the axis.
+            let foot = pivot + a * (c - pivot).dot(&a);
+            (
+                JointKind::Revolute,
+                a,
+                foot,
+                *angle,
+                s.default_revolute_upper,
+            )
+        }
+        JointEstimate::Prismatic { axis, distance } => (
+            JointKind::Prismatic,
+            axis.into_inner(),
+            c,
+            *distance,
+            s.default_prismatic_upper,
+        ),
+        JointEstimate::Unknown { reason } => return Err(format!("unknown joint: {reason}")),
+    };
+    let finite = axis
+        .iter()
+        .chain(origin.coords.iter())
+        .chain(std::iter::once(&motion))
+        .all(|v| v.is_finite());
+    if !finite {
+        return Err("estimate has non-finite numbers".into());
+    }
+    let (axis, motion) = if motion < 0.0 {
+        (-axis, -motion)
+    } else {
+        (axis, motion)
+    };
+    let upper = motion.max(default_upper);
+
+    // Parent: the registered part the handle lies on, else the base.
+    let mut data = SceneData::new(model);
+    forward_kinematics(model, &mut data, state).map_err(|e| e.to_string())?;
+    let parent = nest_parent(model, &data, &c, s.nest_margin);
+    let world_from_parent = parent
+        .map(|k| data.world_from_parts()[k])
+        .unwrap_or_else(Isometry3::identity);
+    // The joint frame: at the origin, axes aligned with the map frame at discovery time.
+    let world_from_joint = Isometry3::from_parts(
+        Translation3::from(origin.coords),
+        UnitQuaternion::identity(),
+    );
+    let parent_from_joint = world_from_parent.inverse() * world_from_joint;
+    let name = format!("part{index}");
+    let joint_name = match kind {
+        JointKind::Revolute => format!("{name}_hinge"),
+        JointKind::Prismatic => format!("{name}_slide"),
+    };
+    let joint = Joint::new(
+        joint_name,
+        kind,
+        parent_from_joint,
+        axis,
+        Limits::new(0.0, upper),
+    );
+    // Part frame = joint frame at value 0 = the closed pose observed before the interaction.
+    let part_from_world = world_from_joint.inverse();
+    let mut spec = match parent {
+        Some(k) => PartSpec::on_part(name.clone(), model.parts()[k].name(), joint),
+        None => PartSpec::on_base(name.clone(), joint),
+    };
+    let mut points = estimate.part_points.clone();
+    if points.len() < 4 {
+        points = segment_by_motion(observed, &joint_motion(kind, &axis, &origin, motion), s);
+        notes.push(format!(
+            "estimator gave {} part points; motion-consistency segmentation found {}",
+            estimate.part_points.len(),
+            points.len()
+        ));
+    }
+    let all = points.len();
+    let points = connected_to(&points, &c, SEED_RADIUS, CONNECTIVITY);
+    if points.len() < all {
+        notes.push(format!(
+            "{} of {all} part points are not connected to the contact; dropped from the box",
+            all - points.len()
+        ));
+    }
+    match oriented_box(&points, s.box_trim, s.min_half_extent) {
+        Some(b) => {
+            let world_from_box =
+                Isometry3::from_parts(Translation3::from(b.center.coords), b.rotation);
+            spec = spec.with_collider(
+                Shape::cuboid(b.half_extents),
+                part_from_world * world_from_box,
+            );
+        }
+        None => notes.push("no part geometry: registered without a collider".into()),
+    }
+    spec = spec.with_handle(Handle::new(
+        format!("{name}_handle"),
+        part_from_world * c,
+        part_from_world * observed.normal.into_inner(),
+    ));
+    let world_from_part = world_from_joint;
+    let closed = spec
+        .colliders
+        .iter()
+        .filter_map(|c| PlacedShape::new(&c.shape, &(world_from_part * c.part_from_shape)))
+        .collect();
+    let value = motion.min(upper);
+    Ok(NewPart {
+        world_motion: joint_motion(kind, &axis, &origin, value),
+        spec,
+        value,
+        notes,
+        closed,
+    })
+}
+
+/// The nesting rule: the registered part (index) with a collider within `margin` of `p` at the
+/// current state, the nearest one; ties go to the deeper part.
+fn nest_parent(
+    model: &SceneModel,
+    data: &SceneData,
+    p: &Point3<f64>,
+    margin: f64,
+) -> Option<usize> {
+    let mut best: Option<(f64, usize, usize)> = None;
+    for part in model.parts() {
+        let k = part.id().index();
+        let world_from_part = data.world_from_parts()[k];
+        for collider in part.colliders() {
+            let Some(shape) = PlacedShape::new(
+                &collider.shape,
+                &(world_from_part * collider.part_from_shape),
+            ) else {
+                continue;
+            };
+            let d = shape.distance(p);
+            if d > margin {
+                continue;
+            }
+            let better = match best {
+                None => true,
+                Some((bd, depth, _)) => d < bd - 1e-9 || (d <= bd + 1e-9 && part.depth() > depth),
+            };
+            if better {
+                best = Some((d, part.depth(), k));
+            }
+        }
+    }
+    best.map(|(_, _, k)| k)
+}
+
+/// The estimated motion pre → post as a map-frame transform.
+fn joint_motion(
+    kind: JointKind,
+    axis: &Vector3<f64>,
+    origin: &Point3<f64>,
+    motion: f64,
+) -> Isometry3<f64> {
+    match kind {
+        JointKind::Revolute => {
+            let to = Isometry3::translation(origin.x, origin.y, origin.z);
+            to * Isometry3::rotation(axis * motion) * to.inverse()
+        }
+        JointKind::Prismatic => {
+            let t = axis * motion;
+            Isometry3::translation(t.x, t.y, t.z)
+        }
+    }
+}
+
+/// Fallback segmentation for estimators without one: the pre points within
+/// [`SEGMENT_RADIUS`] of the contact that left their place (no post point within `τ`) and
+/// whose estimated new place is observed (a post point within `τ` of the moved point), with
+/// `τ = max(displacement_threshold, 4 · median pre → post nearest-neighbour distance)` so that
+/// sparsely sampled static surfaces do not count as moved.
+fn segment_by_motion(
+    observed: &Observed<'_>,
+    motion: &Isometry3<f64>,
+    s: &DiscoverySettings,
+) -> Vec<Point3<f64>> {
+    let post = VoxelIndex::new(&observed.post.points, s.displacement_cap);
+    let mut nn: Vec<f64> = observed
+        .pre
+        .points
+        .iter()
+        .map(|p| post.nearest_capped(p))
+        .collect();
+    let d_static = nn.clone();
+    nn.sort_by(f64::total_cmp);
+    let median = nn.get(nn.len() / 2).copied().unwrap_or(0.0);
+    let tol = s.displacement_threshold.max(NOISE_MULTIPLIER * median);
+    observed
+        .pre
+        .points
+        .iter()
+        .zip(d_static)
+        .filter(|(p, d)| {
+            (*p - observed.contact_pre).norm() <= SEGMENT_RADIUS
+                && *d > tol
+                && post.nearest_capped(&(motion * *p)) <= tol
+        })
+        .map(|(p, _)| *p)
+        .collect()
+}

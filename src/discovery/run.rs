@@ -1,0 +1,357 @@
+//! One handle of Algorithm 1: PlanBase, GlobalNavTo, DetectHandle, the attempts with
+//! Reposition, the post-interaction observation, PredArticulation and the part to register.
+//! The rules are documented on [`discover`](super::discover).
+
+use nalgebra::{Isometry2, Isometry3, Point3, Unit, Vector2};
+
+use super::error::{DiscoveryError, check_finite};
+use super::explore::{AttemptInput, attempt, checked_cloud, surface_normal};
+use super::fusion::MappedHandle;
+use super::interface::{LocalGoal, PointCloud, Robot};
+use super::log::{AttemptEnd, AttemptLog, EstimateLog, HandleLog, MotionClass, Outcome, Stage};
+use super::part::{NewPart, Observed, new_part};
+use super::placement::{FreeSpace, horizontal, plan_base, shifted};
+use super::settings::DiscoverySettings;
+use crate::kinematics::articulation::{ArticulationEstimator, Interaction, JointEstimate};
+use crate::scene::{SceneModel, State};
+
+/// A refined normal more than this far (rad) from the registered one is not trusted: 45°.
+const MAX_NORMAL_REFINEMENT: f64 = std::f64::consts::FRAC_PI_4;
+
+/// The interfaces and settings of one run.
+pub(crate) struct Run<'a> {
+    pub robot: &'a mut dyn Robot,
+    pub estimator: &'a dyn ArticulationEstimator,
+    pub s: &'a DiscoverySettings,
+}
+
+/// The log entry, failed at `stage` with `reason`.
+fn failed(mut entry: HandleLog, stage: Stage, reason: impl Into<String>) -> HandleLog {
+    entry.outcome = Outcome::Failed {
+        stage,
+        reason: reason.into(),
+    };
+    entry
+}
+
+impl Run<'_> {
+    /// Explores one handle: its log entry and, on success, the part to register.
+    pub(crate) fn handle(
+        &mut self,
+        index: usize,
+        h: &MappedHandle,
+        model: &SceneModel,
+        state: &State,
+        free: &FreeSpace,
+    ) -> Result<(HandleLog, Option<NewPart>), DiscoveryError> {
+        let s = self.s;
+        let mut entry = HandleLog {
+            index,
+            mapped: h.position,
+            detected: None,
+            outcome: Outcome::Failed {
+                stage: Stage::Mapping,
+                reason: String::new(),
+            },
+            attempts: Vec::new(),
+            pull_distance: 0.0,
+            estimate: None,
+            notes: Vec::new(),
+        };
+        let Some(attachment) = &h.attachment else {
+            return Err(DiscoveryError::UnregisteredHandle { index });
+        };
+        let registered =
+            Unit::try_new(attachment.normal, 1e-9).ok_or_else(|| DiscoveryError::NonFinite {
+                what: format!("normal of handle {index} (zero)"),
+            })?;
+        // PlanBase(h), GlobalNavTo(b).
+        let toward_robot = self.toward_robot(&h.position)?;
+        let Some(dir) = horizontal(&registered, &toward_robot) else {
+            return Ok((
+                failed(entry, Stage::Navigation, "no approach direction"),
+                None,
+            ));
+        };
+        let Some(b) = plan_base(
+            free,
+            &h.position,
+            &dir,
+            s.approach_distance,
+            s.base_search_radius,
+        ) else {
+            return Ok((
+                failed(
+                    entry,
+                    Stage::Navigation,
+                    "no free base pose in front of the handle",
+                ),
+                None,
+            ));
+        };
+        if let Err(f) = self.robot.navigate_to(&b) {
+            return Ok((
+                failed(entry, Stage::Navigation, format!("global navigation: {f}")),
+                None,
+            ));
+        }
+        // GetCurrentObs, DetectHandle.
+        let o = match self.robot.observe(s.observation_camera) {
+            Ok(o) => o,
+            Err(e) => {
+                return Ok((
+                    failed(entry, Stage::Mapping, format!("observation: {e}")),
+                    None,
+                ));
+            }
+        };
+        checked_cloud(&o, "approach")?;
+        let detections = match self.robot.detect_handles() {
+            Ok(d) => d,
+            Err(e) => {
+                return Ok((
+                    failed(entry, Stage::Mapping, format!("detector: {e}")),
+                    None,
+                ));
+            }
+        };
+        for (k, d) in detections.iter().enumerate() {
+            check_finite(d.position.coords.iter().copied(), || {
+                format!("re-detection {k} of handle {index}")
+            })?;
+        }
+        let Some(p) = detections
+            .iter()
+            .map(|d| d.position)
+            .filter(|q| (q - h.position).norm() <= s.redetect_radius)
+            .min_by(|a, b| (a - h.position).norm().total_cmp(&(b - h.position).norm()))
+        else {
+            return Ok((
+                failed(
+                    entry,
+                    Stage::Mapping,
+                    format!("not re-detected within {} m", s.redetect_radius),
+                ),
+                None,
+            ));
+        };
+        entry.detected = Some(p);
+        let normal = surface_normal(&o, &p, s)
+            .filter(|n| n.angle(&registered) <= MAX_NORMAL_REFINEMENT)
+            .unwrap_or(registered);
+        // PlanBase(p).
+        let toward_robot = self.toward_robot(&p)?;
+        let dir = horizontal(&normal, &toward_robot).unwrap_or(dir);
+        let Some(mut b_pre) =
+            plan_base(free, &p, &dir, s.interaction_distance, s.base_search_radius)
+        else {
+            return Ok((
+                failed(
+                    entry,
+                    Stage::Navigation,
+                    "no free pre-interaction base pose",
+                ),
+                None,
+            ));
+        };
+        // The exploratory interaction, with Reposition between attempts.
+        let mut hotspot = p;
+        let mut hot_normal = normal;
+        let mut first: Option<(PointCloud, Point3<f64>)> = None;
+        let mut contact_post = None;
+        let mut ee_poses: Vec<(f64, Isometry3<f64>)> = Vec::new();
+        let mut success = false;
+        for _ in 0..s.max_attempts {
+            let goal = LocalGoal {
+                target: hotspot,
+                world_from_base: b_pre,
+            };
+            if let Err(failure) = self.robot.navigate_local(&goal) {
+                entry
+                    .attempts
+                    .push(skipped(b_pre, AttemptEnd::Navigation { failure }));
+                continue;
+            }
+            let o_pre = match self.robot.observe(s.observation_camera) {
+                Ok(o) => o,
+                Err(e) => {
+                    let reason = e.to_string();
+                    entry
+                        .attempts
+                        .push(skipped(b_pre, AttemptEnd::Sensor { reason }));
+                    continue;
+                }
+            };
+            checked_cloud(&o_pre, "pre-interaction")?;
+            let input = AttemptInput {
+                o_pre: &o_pre,
+                hotspot,
+                normal: hot_normal,
+                world_from_base: b_pre,
+                first_grasp: first.as_ref().map(|(_, g)| *g),
+            };
+            let result = attempt(&mut *self.robot, s, &input, &mut ee_poses)?;
+            if let (None, Some(g)) = (&first, result.grasp) {
+                first = Some((o_pre.clone(), g));
+            }
+            if let Some(c) = result.contact {
+                hotspot = c;
+                contact_post = Some(c);
+            }
+            hot_normal = result.normal;
+            let motion = result.log.motion;
+            success = result.log.end.is_success();
+            entry.attempts.push(result.log);
+            if let Err(f) = self.robot.retract() {
+                let stage = Stage::Exploration;
+                return Ok((failed(entry, stage, format!("retract: {f}")), None));
+            }
+            if success {
+                break;
+            }
+            // Reposition.
+            b_pre = reposition(free, &b_pre, motion, &hotspot, s).unwrap_or(b_pre);
+        }
+        if let (Some((_, g)), Some(c)) = (&first, contact_post) {
+            entry.pull_distance = (c - g).norm();
+        }
+        let (Some((o_first, contact_pre)), Some(contact_post), true) =
+            (first, contact_post, success)
+        else {
+            let stage = if entry
+                .attempts
+                .iter()
+                .all(|a| matches!(a.end, AttemptEnd::Navigation { .. }))
+            {
+                Stage::Navigation
+            } else {
+                Stage::Exploration
+            };
+            let reason = entry
+                .attempts
+                .last()
+                .map(|a| format!("{} attempts; last: {:?}", entry.attempts.len(), a.end))
+                .unwrap_or_else(|| "no attempt".into());
+            return Ok((failed(entry, stage, reason), None));
+        };
+        // Step back, o_post.
+        let back = plan_base(
+            free,
+            &p,
+            &dir,
+            s.interaction_distance + s.post_step_back,
+            s.base_search_radius,
+        );
+        match back {
+            Some(b_post) => {
+                let goal = LocalGoal {
+                    target: contact_post,
+                    world_from_base: b_post,
+                };
+                if let Err(f) = self.robot.navigate_local(&goal) {
+                    entry.notes.push(format!(
+                        "step back failed ({f}); observed from where the robot is"
+                    ));
+                }
+            }
+            None => entry
+                .notes
+                .push("no free step-back pose; observed from where the robot is".into()),
+        }
+        let o_post = match self.robot.observe(s.observation_camera) {
+            Ok(o) => o,
+            Err(e) => {
+                let reason = format!("post-interaction observation: {e}");
+                return Ok((failed(entry, Stage::Estimation, reason), None));
+            }
+        };
+        checked_cloud(&o_post, "post-interaction")?;
+        // PredArticulation.
+        let interaction = Interaction {
+            pre: &o_first,
+            post: &o_post,
+            contact_pre,
+            contact_post,
+            ee_poses: &ee_poses,
+        };
+        let estimate =
+            self.estimator
+                .estimate(&interaction)
+                .map_err(|source| DiscoveryError::Estimator {
+                    estimator: self.estimator.name().to_string(),
+                    handle: index,
+                    source,
+                })?;
+        entry.estimate = Some(EstimateLog::new(self.estimator.name(), &estimate));
+        if let JointEstimate::Unknown { reason } = &estimate.joint {
+            let reason = format!("estimator: {reason}");
+            return Ok((failed(entry, Stage::Estimation, reason), None));
+        }
+        // Register.
+        let observed = Observed {
+            pre: &o_first,
+            post: &o_post,
+            contact_pre,
+            normal,
+        };
+        match new_part(index, &estimate, &observed, model, state, s) {
+            Ok(part) => {
+                entry.notes.extend(part.notes.iter().cloned());
+                entry.outcome = Outcome::Registered {
+                    part: part.spec.name.clone(),
+                    joint: part.spec.joint.name.clone(),
+                    parent: part.spec.parent.clone(),
+                };
+                Ok((entry, Some(part)))
+            }
+            Err(reason) => Ok((failed(entry, Stage::Estimation, reason), None)),
+        }
+    }
+
+    /// The horizontal direction from `p` to the robot's base (fallback approach direction).
+    fn toward_robot(&self, p: &Point3<f64>) -> Result<Vector2<f64>, DiscoveryError> {
+        let b = self.robot.base_pose();
+        check_finite(
+            b.translation
+                .vector
+                .iter()
+                .copied()
+                .chain([b.rotation.angle()]),
+            || "base pose".to_string(),
+        )?;
+        Ok(b.translation.vector - Vector2::new(p.x, p.y))
+    }
+}
+
+/// The log entry of an attempt that did not get to the grasp.
+fn skipped(world_from_base: Isometry2<f64>, end: AttemptEnd) -> AttemptLog {
+    AttemptLog {
+        world_from_base,
+        steps: 0,
+        pull_distance: 0.0,
+        displacement: None,
+        rotation: 0.0,
+        motion: MotionClass::NoMotion,
+        end,
+    }
+}
+
+/// Reposition: the new pre-interaction pose after a failed attempt (see
+/// [`discover`](super::discover)).
+fn reposition(
+    free: &FreeSpace,
+    b_pre: &Isometry2<f64>,
+    motion: MotionClass,
+    hotspot: &Point3<f64>,
+    s: &DiscoverySettings,
+) -> Option<Isometry2<f64>> {
+    let d = s.reposition_distance;
+    let in_base = match motion {
+        MotionClass::RevoluteLeft => Vector2::new(0.0, d),
+        MotionClass::RevoluteRight => Vector2::new(0.0, -d),
+        MotionClass::Prismatic | MotionClass::RevoluteHorizontal => Vector2::new(-d, 0.0),
+        MotionClass::NoMotion => Vector2::zeros(),
+    };
+    let shift = b_pre.rotation * in_base;
+    shifted(free, b_pre, &shift, hotspot)
+}

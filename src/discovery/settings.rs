@@ -1,0 +1,208 @@
+//! Settings of Algorithm 1 ([`discover`](super::discover)).
+
+use serde::{Deserialize, Serialize};
+
+use super::error::{DiscoveryError, check_nonneg, check_positive, check_range};
+use super::interface::Camera;
+
+/// Settings of [`discover`](super::discover). SI units; defaults are for a Stretch/Gen3-sized
+/// mobile manipulator in a kitchen.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DiscoverySettings {
+    // --- PlanBase and navigation ---
+    /// Radius of the robot's footprint (m): a planned base position must be free in the base
+    /// map's navigation grid inflated by it. Default 0.3.
+    pub robot_radius: f64,
+    /// Horizontal distance (m) from the handle of the base pose for global navigation and
+    /// re-detection (`PlanBase(h)`). Default 0.9.
+    pub approach_distance: f64,
+    /// Horizontal distance (m) from the handle of the pre-interaction base pose
+    /// (`PlanBase(p)`). Default 0.6.
+    pub interaction_distance: f64,
+    /// How far (m) the base steps back from the pre-interaction pose, along the handle
+    /// normal, to take the post-interaction observation (Algorithm 1, lines 24–27). Default
+    /// 0.3.
+    pub post_step_back: f64,
+    /// When the nominal base position is occupied, candidates up to this far (m) from it are
+    /// searched (rings around the handle, see [`discover`](super::discover)). Default 0.4.
+    pub base_search_radius: f64,
+    // --- DetectHandle ---
+    /// The re-detected handle is the detection nearest to the mapped one within this radius
+    /// (m). Default 0.15.
+    pub redetect_radius: f64,
+    // --- Observations ---
+    /// Camera of the pre- and post-interaction observations (the estimator's input). Default
+    /// [`Camera::Head`].
+    pub observation_camera: Camera,
+    /// Camera observed at every exploration step (`o'`: surface normal and failure
+    /// detection). Default [`Camera::Wrist`].
+    pub interaction_camera: Camera,
+    /// Radius (m) of the neighbourhood around the contact for surface-normal PCA. Default 0.12.
+    pub normal_radius: f64,
+    /// Points within this distance (m) of the first PCA plane are refitted (robust fit).
+    /// Default 0.015.
+    pub plane_inlier_distance: f64,
+    /// Fewest neighbourhood points for a normal estimate. Default 12.
+    pub min_normal_points: usize,
+    // --- Exploratory interaction ---
+    /// Largest number of attempts per handle (grasp + pull; Reposition between). Default 3.
+    pub max_attempts: usize,
+    /// Largest number of pull steps per attempt (`n` in Algorithm 1). Default 40.
+    pub max_steps: usize,
+    /// Commanded end-effector motion per pull step (m). Default 0.02.
+    pub step: f64,
+    /// The exploration succeeds once the contact is this far (m) from the handle's first grasp
+    /// point (over all attempts). Default 0.3.
+    pub target_pull: f64,
+    /// Weight of the surface normal against the end effector's last motion direction in the
+    /// pull direction, in [0, 1] (see [`discover`](super::discover)). Default 0.7.
+    pub surface_weight: f64,
+    // --- DetectFailure ---
+    /// Radius (m) around the contact of the points compared with the pre-interaction
+    /// observation. Default 0.15.
+    pub displacement_radius: f64,
+    /// The part counts as displaced when the mean nearest-neighbour distance (m) of those
+    /// points to the pre-interaction observation reaches this. Default 0.02.
+    pub displacement_threshold: f64,
+    /// Nearest-neighbour distances are capped at this (m) so that a few unmatched points do not
+    /// dominate the mean. Default 0.1.
+    pub displacement_cap: f64,
+    /// Pull steps after which a part that is still not displaced is a failure. Default 5.
+    pub stall_steps: usize,
+    /// A hardware failure once the contact is this far (m) from the first grasp point, with the
+    /// part displaced, ends the attempt as a success: the motion so far is enough for the
+    /// estimator. Default 0.12.
+    pub sufficient_pull: f64,
+    // --- Reposition ---
+    /// A tracked rotation of at least this (rad) classifies the motion as revolute. Default
+    /// 0.14 (8°).
+    pub rotation_threshold: f64,
+    /// A contact motion of at least this (m) without rotation classifies it as prismatic.
+    /// Default 0.02.
+    pub translation_threshold: f64,
+    /// How far (m) Reposition moves the base: sideways for revolute, back for prismatic (the
+    /// paper's 30 cm). Default 0.3.
+    pub reposition_distance: f64,
+    // --- Registration ---
+    /// Upper limit given to a revolute joint (rad) when the observed opening is smaller.
+    /// Default 1.57.
+    pub default_revolute_upper: f64,
+    /// Upper limit given to a prismatic joint (m) when the observed opening is smaller. Default
+    /// 0.4.
+    pub default_prismatic_upper: f64,
+    /// A handle within this distance (m) of an already registered part's collider (at the
+    /// part's current estimated pose) is nested on that part. Default 0.05.
+    pub nest_margin: f64,
+    /// Quantile trimmed at each end of the part's points for its bounding box, in [0, 0.5).
+    /// Default 0.01.
+    pub box_trim: f64,
+    /// Smallest half extent (m) of a part's box (a front seen from one side is flat).
+    /// Default 0.01.
+    pub min_half_extent: f64,
+}
+
+impl Default for DiscoverySettings {
+    fn default() -> Self {
+        DiscoverySettings {
+            robot_radius: 0.3,
+            approach_distance: 0.9,
+            interaction_distance: 0.6,
+            post_step_back: 0.3,
+            base_search_radius: 0.4,
+            redetect_radius: 0.15,
+            observation_camera: Camera::Head,
+            interaction_camera: Camera::Wrist,
+            normal_radius: 0.12,
+            plane_inlier_distance: 0.015,
+            min_normal_points: 12,
+            max_attempts: 3,
+            max_steps: 40,
+            step: 0.02,
+            target_pull: 0.3,
+            surface_weight: 0.7,
+            displacement_radius: 0.15,
+            displacement_threshold: 0.02,
+            displacement_cap: 0.1,
+            stall_steps: 5,
+            sufficient_pull: 0.12,
+            rotation_threshold: 0.14,
+            translation_threshold: 0.02,
+            reposition_distance: 0.3,
+            default_revolute_upper: 1.57,
+            default_prismatic_upper: 0.4,
+            nest_margin: 0.05,
+            box_trim: 0.01,
+            min_half_extent: 0.01,
+        }
+    }
+}
+
+impl DiscoverySettings {
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// [`DiscoveryError::InvalidSetting`] naming the first invalid field: lengths and counts
+    /// must be positive (distances that may be zero: `post_step_back`, `base_search_radius`,
+    /// `nest_margin`), weights and quantiles in range, `displacement_cap >
+    /// displacement_threshold`.
+    pub fn validate(&self) -> Result<(), DiscoveryError> {
+        for (name, v) in [
+            ("robot_radius", self.robot_radius),
+            ("approach_distance", self.approach_distance),
+            ("interaction_distance", self.interaction_distance),
+            ("redetect_radius", self.redetect_radius),
+            ("normal_radius", self.normal_radius),
+            ("plane_inlier_distance", self.plane_inlier_distance),
+            ("step", self.step),
+            ("target_pull", self.target_pull),
+            ("displacement_radius", self.displacement_radius),
+            ("displacement_threshold", self.displacement_threshold),
+            ("displacement_cap", self.displacement_cap),
+            ("sufficient_pull", self.sufficient_pull),
+            ("rotation_threshold", self.rotation_threshold),
+            ("translation_threshold", self.translation_threshold),
+            ("reposition_distance", self.reposition_distance),
+            ("default_revolute_upper", self.default_revolute_upper),
+            ("default_prismatic_upper", self.default_prismatic_upper),
+            ("min_half_extent", self.min_half_extent),
+        ] {
+            check_positive(name, v)?;
+        }
+        for (name, v) in [
+            ("post_step_back", self.post_step_back),
+            ("base_search_radius", self.base_search_radius),
+            ("nest_margin", self.nest_margin),
+        ] {
+            check_nonneg(name, v)?;
+        }
+        check_range(
+            "surface_weight",
+            self.surface_weight,
+            0.0,
+            1.0,
+            "must be in [0, 1]",
+        )?;
+        check_range("box_trim", self.box_trim, 0.0, 0.49, "must be in [0, 0.49]")?;
+        if self.displacement_cap <= self.displacement_threshold {
+            return Err(DiscoveryError::InvalidSetting {
+                name: "displacement_cap",
+                value: self.displacement_cap,
+                reason: "must exceed displacement_threshold",
+            });
+        }
+        for (name, v) in [
+            ("max_attempts", self.max_attempts),
+            ("max_steps", self.max_steps),
+            ("min_normal_points", self.min_normal_points),
+        ] {
+            if v == 0 {
+                return Err(DiscoveryError::InvalidSetting {
+                    name,
+                    value: 0.0,
+                    reason: "must be >= 1",
+                });
+            }
+        }
+        Ok(())
+    }
+}

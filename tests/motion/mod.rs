@@ -1,0 +1,5 @@
+//! Motion layer: OMPL paths, timing, base placement.
+
+mod paths;
+mod placement;
+mod timing;
