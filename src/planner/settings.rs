@@ -22,7 +22,9 @@ pub struct PlannerSettings {
     /// OMPL settings of the base and arm paths (the budget is per path, capped by what is
     /// left of the overall budget).
     pub paths: PathSettings,
-    /// Clearance (m) the robot keeps from the scene along base paths and arm paths, > 0
+    /// Clearance (m) the robot keeps from the scene along base paths (arm paths keep the
+    /// smaller of this and the placement's `manipulation.margin`, since they start or end at
+    /// the placement's configurations), > 0
     /// recommended (default 0.02 m: the Gen3's points move at most about 1.6 cm per 0.01 rad
     /// of joint motion, so OMPL's and the re-check's discrete checks keep real clearance). The grasped part (and its descendants) is exempt while the
     /// arm approaches, manipulates and leaves it.

@@ -325,7 +325,10 @@ pub(super) fn refine(
         )));
     }
 
-    // Approach: stowed -> first waypoint, the grasped subtree exempt.
+    // Approach: stowed -> first waypoint, the grasped subtree exempt. The arm phases end or
+    // start at the placement's configurations, which keep the placement's margin: the arm
+    // keeps no more than that, or the ends of its own paths would be invalid.
+    let arm_margin = settings.margin.min(settings.placement.manipulation.margin);
     let (lower, upper) = ctx.robot.arm_bounds();
     let arm_valid_in = |data: &SceneData, q: &[f64]| -> bool {
         let cfg = RobotConfig {
@@ -337,7 +340,7 @@ pub(super) fn refine(
                 ctx.collision.self_collision(&poses).is_none()
                     && ctx
                         .collision
-                        .scene_collision(&poses, model, data, &ignore, settings.margin)
+                        .scene_collision(&poses, model, data, &ignore, arm_margin)
                         .is_none()
             }
             Err(_) => false,
@@ -346,37 +349,53 @@ pub(super) fn refine(
     let approach_valid = |q: &[f64]| arm_valid_in(&data, q);
     let first = &waypoints[0];
     let last = &waypoints[waypoints.len() - 1];
-    path_settings.budget = budget_left(ctx.termination, settings.paths.budget);
-    let approach = match plan_arm(
+    // One arm phase: OMPL, then the dense re-check.
+    let arm_phase = |from: &[f64],
+                     to: &[f64],
+                     valid: &(dyn Fn(&[f64]) -> bool + Sync),
+                     check: Check,
+                     what: &str|
+     -> Result<Result<Vec<Vec<f64>>, Failed>, PlannerError> {
+        let mut path_settings = settings.paths.clone();
+        path_settings.budget = budget_left(ctx.termination, settings.paths.budget);
+        let outcome = plan_arm(
+            from,
+            to,
+            lower.as_slice(),
+            upper.as_slice(),
+            valid,
+            &path_settings,
+            cancel,
+        )?;
+        let path = match outcome {
+            PathOutcome::Found(p) => p,
+            other => {
+                let check = if ctx.termination.should_stop() {
+                    Check::Stopped
+                } else {
+                    check
+                };
+                return Ok(Err(fail(check, describe(&other, what))));
+            }
+        };
+        if let Some((seg, _)) = first_invalid(&path, settings.arm_check_resolution, false, valid) {
+            return Ok(Err(fail(
+                check,
+                format!("dense re-check: segment {seg} of the {what} collides"),
+            )));
+        }
+        Ok(Ok(path))
+    };
+    let approach = match arm_phase(
         stow.as_slice(),
         first,
-        lower.as_slice(),
-        upper.as_slice(),
         &approach_valid,
-        &path_settings,
-        cancel,
+        Check::Approach,
+        "arm approach",
     )? {
-        PathOutcome::Found(p) => p,
-        other => {
-            let check = if ctx.termination.should_stop() {
-                Check::Stopped
-            } else {
-                Check::Approach
-            };
-            return Ok(Err(fail(check, describe(&other, "arm approach"))));
-        }
+        Ok(p) => p,
+        Err(f) => return Ok(Err(f)),
     };
-    if let Some((seg, _)) = first_invalid(
-        &approach,
-        settings.arm_check_resolution,
-        false,
-        &approach_valid,
-    ) {
-        return Ok(Err(fail(
-            Check::Approach,
-            format!("dense re-check: segment {seg} of the approach collides"),
-        )));
-    }
 
     // Manipulation: dense re-check with the part moving along with the arm.
     if let Some(reason) = check_manipulation(ctx, state, joint, step, &waypoints, &|d, q| {
@@ -391,37 +410,16 @@ pub(super) fn refine(
     let mut data_after = SceneData::new(model);
     forward_kinematics(model, &mut data_after, &after)?;
     let retreat_valid = |q: &[f64]| arm_valid_in(&data_after, q);
-    path_settings.budget = budget_left(ctx.termination, settings.paths.budget);
-    let retreat = match plan_arm(
+    let retreat = match arm_phase(
         last,
         stow.as_slice(),
-        lower.as_slice(),
-        upper.as_slice(),
         &retreat_valid,
-        &path_settings,
-        cancel,
+        Check::Retreat,
+        "arm retreat",
     )? {
-        PathOutcome::Found(p) => p,
-        other => {
-            let check = if ctx.termination.should_stop() {
-                Check::Stopped
-            } else {
-                Check::Retreat
-            };
-            return Ok(Err(fail(check, describe(&other, "arm retreat"))));
-        }
+        Ok(p) => p,
+        Err(f) => return Ok(Err(f)),
     };
-    if let Some((seg, _)) = first_invalid(
-        &retreat,
-        settings.arm_check_resolution,
-        false,
-        &retreat_valid,
-    ) {
-        return Ok(Err(fail(
-            Check::Retreat,
-            format!("dense re-check: segment {seg} of the retreat collides"),
-        )));
-    }
 
     // Timing.
     let b = ctx.robot.base();

@@ -8,12 +8,13 @@ use kinscene::planner::{
     Check, HierarchicalPlanner, MotionDocument, MotionOutcome, PlannerError, PlannerSettings,
 };
 use kinscene::scene::motion::grasp_trajectory;
+use kinscene::scene::nav::{GridBounds, NavGridSettings};
 use kinscene::scene::{
     BaseShape, Handle, Joint, Limits, PartSpec, SceneData, SceneModel, SceneModelBuilder, Shape,
     State, forward_kinematics as scene_fk,
 };
 use kinscene::task::{GoalSpec, Problem, Termination};
-use nalgebra::{DVector, Isometry3, Point3, Vector3};
+use nalgebra::{DVector, Isometry3, Point2, Point3, Vector3};
 
 /// A counter (x in [0, 0.6], y in [-1, 1], 0.9 m high) with a drawer whose front is at x = 0,
 /// sliding out along -x (0 to 0.35 m), its handle at height `handle_z` on the front's centre.
@@ -247,4 +248,91 @@ fn bad_settings_are_rejected() {
         ..PlannerSettings::default()
     };
     assert!(HierarchicalPlanner::new(RobotModel::kinova_gen3_mobile(), settings).is_err());
+}
+
+/// Two rooms divided by a wall at x = -1.3 (0.04 m thick, 2 m high). The robot starts in the
+/// west room; the counter with the drawer (as in [`counter_with_drawer`]) is in the east room.
+/// The wall has a narrow gap G1 (y in [-0.19, 0.19], 0.38 m) and a wide opening G2 (y in
+/// [1.0, 1.8]) that a sliding door, on the west side of the wall, covers at the start.
+fn two_rooms() -> SceneModel {
+    let mut b = counter_with_drawer(0.75).to_builder();
+    let wall = |name: &str, y0: f64, y1: f64| {
+        BaseShape::new(
+            name,
+            Shape::box_size(Vector3::new(0.04, y1 - y0, 2.0)),
+            Isometry3::translation(-1.3, 0.5 * (y0 + y1), 1.0),
+        )
+    };
+    b.add_base_shape(wall("wall_south", -2.0, -0.19));
+    b.add_base_shape(wall("wall_middle", 0.19, 1.0));
+    b.add_base_shape(wall("wall_north", 1.8, 3.0));
+    // The floor the robot may use ends where the wall ends: no way around it.
+    b.nav_settings(NavGridSettings {
+        bounds: Some(GridBounds {
+            min: Point2::new(-2.6, -2.0),
+            max: Point2::new(1.0, 3.0),
+        }),
+        ..NavGridSettings::default()
+    });
+    // The sliding door: a panel at x = -1.35 (west of the wall), y in [1.8, 2.6] at value 0,
+    // moving along -y by its value (0.8: y in [1.0, 1.8], G2 closed). Handle on its west face,
+    // 5 cm from its south edge, 1 m high.
+    b.add_part(
+        PartSpec::on_base(
+            "slider",
+            Joint::prismatic(
+                "slider_slide",
+                Point3::new(-1.35, 2.2, 1.0),
+                -Vector3::y(),
+                Limits::new(0.0, 0.8),
+            ),
+        )
+        .with_collider(
+            Shape::box_size(Vector3::new(0.02, 0.8, 1.9)),
+            Isometry3::identity(),
+        )
+        .with_handle(Handle::new(
+            "slider_handle",
+            Point3::new(-0.02, -0.35, 0.0),
+            -Vector3::x(),
+        )),
+    );
+    b.build().expect("the test scene is valid")
+}
+
+#[test]
+fn a_motion_infeasible_first_order_is_vetoed_and_the_planner_backtracks() {
+    // The task level plans for a disc of radius 0.1 m, which fits through G1 (0.38 m); the real
+    // chassis is 0.36 m wide and keeps a 0.02 m margin on both sides, 0.40 m in all, so only the
+    // motion layer finds that G1 is too narrow. The first order (drive through G1, open the
+    // drawer) must be vetoed on its base path; the plan that refines opens the sliding door first
+    // and drives through G2.
+    let model = two_rooms();
+    let problem = problem(
+        &model,
+        "[goal]\ndrawer_slide = { min = 0.25 }\n[start]\nslider_slide = 0.8\n\
+         [robot]\nbase = [-2.0, 0.0, 0.0]\nradius = 0.1\n",
+    );
+    let result = planner()
+        .plan(
+            &model,
+            &problem,
+            &Termination::after(Duration::from_secs(300)),
+        )
+        .expect("valid input");
+    let MotionOutcome::Solved(plan) = &result.outcome else {
+        panic!("expected a plan, got {:?}", result.outcome);
+    };
+    assert!(
+        result.task_plans >= 2,
+        "the first order should have been vetoed"
+    );
+    let joints: Vec<&str> = plan.task.steps.iter().map(|s| s.joint.as_str()).collect();
+    assert_eq!(joints.last(), Some(&"drawer_slide"));
+    assert!(joints.contains(&"slider_slide"), "{joints:?}");
+    // Every step's base path ends at its manipulation pose.
+    for s in &plan.steps {
+        let end = s.base_path.positions.last().unwrap();
+        assert!((end[0] - s.base[0]).abs() < 1e-9 && (end[1] - s.base[1]).abs() < 1e-9);
+    }
 }
