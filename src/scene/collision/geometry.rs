@@ -94,6 +94,21 @@ impl CompiledShape {
         }
     }
 
+    /// parry's `project_point` of the world point `p` onto the solid, for an owner at
+    /// `world_from_owner`: the nearest boundary point (world frame) and whether `p` is inside.
+    pub(crate) fn project_point(
+        &self,
+        world_from_owner: &Isometry3<f64>,
+        p: &Point3<f64>,
+    ) -> (Point3<f64>, bool) {
+        let pose = convert::pose(&(world_from_owner * self.owner_from_parry));
+        let proj = self.shape.project_point(&pose, convert::point(p), false);
+        (
+            Point3::from(convert::from_vector(&proj.point)),
+            proj.is_inside,
+        )
+    }
+
     /// The bounding sphere's centre in the world, given the owner's world pose.
     pub(crate) fn world_center(&self, world_from_owner: &Isometry3<f64>) -> Point3<f64> {
         world_from_owner * self.sphere.center
