@@ -362,6 +362,27 @@ impl HierarchicalPlanner {
                     });
                 }
                 Refined::Failed { rule, failure } => {
+                    if !matches!(self.settings.task.strategy, task::Strategy::Search) {
+                        // The baselines do not consult the refiner: they would propose the
+                        // same order again. Their verdict is the failed step.
+                        let message = format!("the baseline's order does not refine: {failure}");
+                        failures.push(failure);
+                        return Ok(PlannerResult {
+                            outcome: MotionOutcome::Infeasible {
+                                task: Infeasibility {
+                                    message,
+                                    unreached: Vec::new(),
+                                    conflicts: Vec::new(),
+                                    start_collisions: Vec::new(),
+                                },
+                                vetoes: failures,
+                            },
+                            task_plans,
+                            task_stats: result.stats,
+                            task_time,
+                            motion_time,
+                        });
+                    }
                     vetoes.lock().unwrap_or_else(|e| e.into_inner()).push(rule);
                     failures.push(failure);
                 }
@@ -377,6 +398,33 @@ impl HierarchicalPlanner {
                 }
             }
         }
+    }
+
+    /// Refines one given order of moves, `plan`, without searching for another: the motion of
+    /// every step, or the first step that fails and why. For orders chosen elsewhere (a user's
+    /// own sequence, the paper's *Random* baseline); [`plan`](Self::plan) is this plus the
+    /// search for an order that refines. `plan` must be a task plan for `problem`'s start
+    /// (its steps are replayed from `problem.start`; the task layer's own checks are not
+    /// repeated).
+    ///
+    /// # Errors
+    /// Only for bad input (a step naming an unknown joint, a value outside its limits) or a
+    /// broken backend. A failed step or an exhausted budget is a [`RefineOutcome`].
+    pub fn refine(
+        &self,
+        model: &SceneModel,
+        problem: &Problem,
+        plan: &Plan,
+        termination: &Termination<'_>,
+    ) -> Result<RefineOutcome, PlannerError> {
+        Ok(match self.refine_plan(model, problem, plan, termination)? {
+            Refined::All(steps) => RefineOutcome::Solved(MotionPlan {
+                task: plan.clone(),
+                steps,
+            }),
+            Refined::Failed { failure, .. } => RefineOutcome::Failed(failure),
+            Refined::Stopped(reason) => RefineOutcome::Stopped(reason),
+        })
     }
 
     fn timeout(
@@ -463,6 +511,17 @@ impl HierarchicalPlanner {
         }
         Ok(Refined::All(steps))
     }
+}
+
+/// How refining one given order ended ([`HierarchicalPlanner::refine`]).
+#[derive(Debug, Clone, PartialEq)]
+pub enum RefineOutcome {
+    /// Every step refined.
+    Solved(MotionPlan),
+    /// This step failed this check (the steps before it refined).
+    Failed(StepFailure),
+    /// The budget or the cancel flag stopped refinement.
+    Stopped(String),
 }
 
 /// How refining a task plan ended.

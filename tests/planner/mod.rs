@@ -6,6 +6,7 @@ use kinscene::kinematics::pinocchio::{Data, forward_kinematics, frame_placement}
 use kinscene::kinematics::robot::{RobotCollision, RobotConfig, RobotModel};
 use kinscene::planner::{
     Check, HierarchicalPlanner, MotionDocument, MotionOutcome, PlannerError, PlannerSettings,
+    RefineOutcome,
 };
 use kinscene::scene::motion::grasp_trajectory;
 use kinscene::scene::nav::{GridBounds, NavGridSettings};
@@ -13,7 +14,9 @@ use kinscene::scene::{
     BaseShape, Handle, Joint, Limits, PartSpec, SceneData, SceneModel, SceneModelBuilder, Shape,
     State, forward_kinematics as scene_fk,
 };
-use kinscene::task::{GoalSpec, Problem, Termination};
+use kinscene::task::{
+    GoalSpec, NoRefinement, Outcome, Problem, Strategy, TaskSettings, Termination,
+};
 use nalgebra::{DVector, Isometry3, Point2, Point3, Vector3};
 
 /// A counter (x in [0, 0.6], y in [-1, 1], 0.9 m high) with a drawer whose front is at x = 0,
@@ -335,4 +338,61 @@ fn a_motion_infeasible_first_order_is_vetoed_and_the_planner_backtracks() {
         let end = s.base_path.positions.last().unwrap();
         assert!((end[0] - s.base[0]).abs() < 1e-9 && (end[1] - s.base[1]).abs() < 1e-9);
     }
+}
+
+#[test]
+fn a_given_order_is_refined_once_and_a_baseline_order_that_does_not_refine_is_infeasible() {
+    // The same two rooms as above: with the start pose west of the wall and the sliding door
+    // closed over G2, the only order the task level's 0.1 m disc accepts for the drawer alone is
+    // "drive through G1, open the drawer", whose base path the real chassis cannot follow.
+    let model = two_rooms();
+    let problem = problem(
+        &model,
+        "[goal]\ndrawer_slide = { min = 0.25 }\n[start]\nslider_slide = 0.8\n\
+         [robot]\nbase = [-2.0, 0.0, 0.0]\nradius = 0.1\n",
+    );
+    let random = TaskSettings {
+        strategy: Strategy::Random { seed: 7 },
+        ..TaskSettings::default()
+    };
+    let budget = || Termination::after(Duration::from_secs(120));
+    let task = kinscene::task::plan(&model, &problem, &random, &NoRefinement, &budget())
+        .expect("valid input");
+    let Outcome::Solved(order) = task.outcome else {
+        panic!(
+            "the baseline accepts the one-step order: {:?}",
+            task.outcome
+        );
+    };
+    assert_eq!(order.steps.len(), 1);
+    let planner = planner();
+    match planner
+        .refine(&model, &problem, &order, &budget())
+        .expect("valid input")
+    {
+        RefineOutcome::Failed(f) => {
+            assert_eq!(f.step, 0);
+            assert_eq!(f.check, Check::BasePath, "{f}");
+        }
+        other => panic!("expected the base path to fail, got {other:?}"),
+    }
+    // With the baseline as the planner's task strategy, the failed order is the verdict (the
+    // baseline ignores vetoes; the planner must not ask it again and again).
+    let baseline = HierarchicalPlanner::new(
+        RobotModel::kinova_gen3_mobile(),
+        PlannerSettings {
+            task: random,
+            ..PlannerSettings::default()
+        },
+    )
+    .expect("the shipped robot builds");
+    let result = baseline
+        .plan(&model, &problem, &budget())
+        .expect("valid input");
+    let MotionOutcome::Infeasible { vetoes, .. } = &result.outcome else {
+        panic!("expected infeasible, got {:?}", result.outcome);
+    };
+    assert_eq!(result.task_plans, 1);
+    assert_eq!(vetoes.len(), 1);
+    assert_eq!(vetoes[0].check, Check::BasePath);
 }
