@@ -69,7 +69,7 @@ use std::time::{Duration, Instant};
 use criterion::{Criterion, SamplingMode};
 use kinscene::scene::collision::{Body, Contact, check_joint_motion, collisions};
 use kinscene::scene::nav::occupancy;
-use kinscene::scene::{JointId, Parent, SceneData, SceneModel, State, forward_kinematics};
+use kinscene::scene::{JointId, PartId, SceneData, SceneModel, State, forward_kinematics};
 use kinscene::task::{
     Feasibility, GoalSpec, Lattice, MoveCheck, NoRefinement, Outcome, Problem, SearchStats, Step,
     Strategy, TargetSpec, TaskSettings, Termination, plan, validate,
@@ -157,20 +157,10 @@ fn static_conflict(inst: &Instance) -> Option<(String, String)> {
     };
     // The joints that place a body: the part's joint and its ancestors'.
     let chain = |body: Body| -> Vec<JointId> {
-        let mut out = Vec::new();
-        let mut at = match body {
-            Body::Part(p) => Some(p),
-            Body::Base(_) => None,
-        };
-        while let Some(p) = at {
-            let part = &model.parts()[p.index()];
-            out.push(part.joint());
-            at = match part.parent() {
-                Parent::Part(parent) => Some(parent),
-                Parent::Base => None,
-            };
+        match body {
+            Body::Part(p) => model.path_to_base(p).map(PartId::joint).collect(),
+            Body::Base(_) => Vec::new(),
         }
-        out
     };
     let name = |body: Body| match body {
         Body::Part(p) => model.parts()[p.index()].name().to_string(),

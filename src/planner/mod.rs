@@ -44,7 +44,7 @@ use crate::kinematics::robot::{RobotCollision, RobotConfig, RobotError, RobotMod
 use crate::motion::paths::PathError;
 use crate::motion::placement::{PlacementData, PlacementError};
 use crate::motion::timing::TimingError;
-use crate::scene::{JointId, Parent, PartId, SceneModel, State};
+use crate::scene::{JointId, PartId, SceneModel, State};
 use crate::task::{
     self, Infeasibility, MoveContext, Outcome, Plan, Problem, Refinement, SearchStats, Termination,
 };
@@ -174,7 +174,13 @@ impl VetoRule {
                 .collect(),
             Some(parts) => {
                 let mut joints: Vec<usize> = parts.iter().map(|p| p.joint().index()).collect();
-                joints.extend(ancestors(model, joint.part()).map(|p| p.joint().index()));
+                // The part's ancestors place its handle (the part itself is keyed by `from`).
+                joints.extend(
+                    model
+                        .path_to_base(joint.part())
+                        .skip(1)
+                        .map(|p| p.joint().index()),
+                );
                 joints.sort_unstable();
                 joints.dedup();
                 joints
@@ -203,22 +209,6 @@ impl VetoRule {
                 .iter()
                 .all(|(j, v)| values.get(*j).map(|x| x.to_bits()) == Some(*v))
     }
-}
-
-/// The ancestors of `part` (parent first), not the part itself.
-fn ancestors(model: &SceneModel, part: PartId) -> impl Iterator<Item = PartId> + '_ {
-    let mut next = model.part(part).and_then(|p| match p.parent() {
-        Parent::Part(q) => Some(q),
-        Parent::Base => None,
-    });
-    std::iter::from_fn(move || {
-        let current = next?;
-        next = model.part(current).and_then(|p| match p.parent() {
-            Parent::Part(q) => Some(q),
-            Parent::Base => None,
-        });
-        Some(current)
-    })
 }
 
 /// Task search plus motion refinement for one robot. Build once, plan many times; the robot's

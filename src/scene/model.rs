@@ -68,6 +68,20 @@ impl SceneModel {
         self.parts.get(id.0)
     }
 
+    /// The kinematic chain from `part` down to the base: the part itself, its parent part, and
+    /// so on to the part on the base (nearest first). Empty for an id from another model.
+    pub fn path_to_base(&self, part: PartId) -> impl Iterator<Item = PartId> + '_ {
+        let mut next = self.part(part).map(|_| part);
+        std::iter::from_fn(move || {
+            let current = next?;
+            next = self.part(current).and_then(|p| match p.parent() {
+                Parent::Part(q) => Some(q),
+                Parent::Base => None,
+            });
+            Some(current)
+        })
+    }
+
     /// A joint by id, `None` for an id from another model.
     pub fn joint(&self, id: JointId) -> Option<&Joint> {
         self.joints.get(id.0)

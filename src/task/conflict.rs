@@ -22,7 +22,7 @@ use super::lattice::Lattice;
 use super::plan::{BodyName, Cause, Failure, Infeasibility};
 use super::{Error, Termination};
 use crate::scene::collision::{Body, Contact, collisions};
-use crate::scene::{JointId, Parent, SceneData, SceneModel, State, forward_kinematics};
+use crate::scene::{JointId, PartId, SceneData, SceneModel, State, forward_kinematics};
 
 /// Value combinations tried per candidate pair before giving up on it.
 const MAX_COMBINATIONS: usize = 64;
@@ -60,21 +60,12 @@ pub(crate) fn static_conflict(
     for (j, t) in problem.goal.targets() {
         q[j.index()] = t.nearest(q[j.index()]);
     }
+    // The joints that place a body: the part's joint and its ancestors'.
     let chain = |body: Body| -> Vec<JointId> {
-        let mut out = Vec::new();
-        let mut at = match body {
-            Body::Part(p) => Some(p),
-            Body::Base(_) => None,
-        };
-        while let Some(p) = at {
-            let part = &model.parts()[p.index()];
-            out.push(part.joint());
-            at = match part.parent() {
-                Parent::Part(parent) => Some(parent),
-                Parent::Base => None,
-            };
+        match body {
+            Body::Part(p) => model.path_to_base(p).map(PartId::joint).collect(),
+            Body::Base(_) => Vec::new(),
         }
-        out
     };
     for contact in collide(&q)? {
         if termination.should_stop() {

@@ -690,3 +690,23 @@ fn kitchen_exports_and_reimports_equal() {
         xml
     );
 }
+
+#[test]
+fn path_to_base_follows_the_urdf_tree() {
+    // The URDF header's tree: the rack rides on the dishwasher door, which is on the base.
+    let model = kitchen();
+    let names = |part: &str| -> Vec<String> {
+        let id = model
+            .parts()
+            .iter()
+            .find(|p| p.name() == part)
+            .expect("the header lists this part")
+            .id();
+        model
+            .path_to_base(id)
+            .map(|p| model.part(p).unwrap().name().to_string())
+            .collect()
+    };
+    assert_eq!(names("dishwasher_rack"), ["dishwasher_rack", "dishwasher_door"]);
+    assert_eq!(names("sink_door"), ["sink_door"]);
+}
