@@ -827,6 +827,8 @@ impl<'a> Checker<'a> {
             }
             let [x, y] = self.cell_xy(r.cell);
             let near = aw * r.actuation + tw * (x - rx).hypot(y - ry);
+            // Exact shortcut only because `extra(..) >= 0`: a cell whose lower part `near`
+            // is already no better cannot improve `best` (`move_bound_le` in RequeueKey.v).
             if near < best {
                 best = best.min(near + extra(r.cell));
             }

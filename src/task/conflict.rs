@@ -15,6 +15,12 @@
 //! relative pose differs from the start's (where it does not), so some move changed it; after
 //! the last such move the relative pose no longer changes, so the pair collides at that
 //! move's end value, where the certified sweep says it does not.
+//!
+//! **Machine-checked.** `proofs/theories/Task/Conflict.v` (`static_conflict_sound`) proves the
+//! claim over an abstract model of the scene, with three premises: a feasible move of joint `j`
+//! leaves no pair with exactly one body in `j`'s moving subtree colliding at its end value (the
+//! certified sweep); whether a pair collides depends only on the joints that place exactly one
+//! of its bodies; a goal state has every goal joint inside its target.
 
 use super::check::{Checker, SweepVerdict};
 use super::goal::Problem;

@@ -35,7 +35,8 @@
 //! overestimates (admissible) and is consistent except on moves that take a goal joint out
 //! of its target (which can raise the travel bound by more than they cost). When a move
 //! comes up, its priority is first tightened with the travel to its own manipulation region
-//! and on from there (a cheap bound), and the move is checked only if it is still the best
+//! and on from there (a cheap bound, never above the key of a node the move produces:
+//! `proofs/theories/Task/RequeueKey.v`), and the move is checked only if it is still the best
 //! open entry. The robot's position is part of a search node (it sets the travel cost) but
 //! not of the closed set: feasibility does not depend on it (the robot is always in the
 //! start's free component), so closing a state on first arrival keeps the search complete,
@@ -66,7 +67,9 @@
 //! (whatever its ancestors do; tested when `travel > 0`, with the heuristic's sets), and a pair of bodies placed only by goal joints that collide
 //! at every combination of those joints' lattice values inside their targets but not at the
 //! start (the last move that changes their relative pose would have to end in that
-//! collision, which its certified sweep excludes; see `conflict.rs`).
+//! collision, which its certified sweep excludes; see `conflict.rs`). The second is
+//! machine-checked (`proofs/theories/Task/Conflict.v`); the first is argued here and taken as
+//! a premise by the proofs.
 //!
 //! **Memo and parallelism.** Sweep verdicts are memoised by (joint, from, to, the values of
 //! the joints that can influence that sweep — found with conservative reach spheres); the

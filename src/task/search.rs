@@ -1,5 +1,9 @@
 //! The complete lattice search: lazy A* over lattice states with a closed set, grown over an
 //! active joint set.
+//!
+//! Its model, with the move re-queue and the rounds that stop early to grow the active set, is
+//! `search_run` in `proofs/theories/Task/Requeue.v` (soundness, completeness over all joints,
+//! termination; a re-queued key stays a lower bound: `RequeueKey.v`).
 
 use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap, HashSet};
