@@ -56,8 +56,9 @@
 //!
 //! `cargo bench --no-default-features --bench task -- --warm-up-time 1 --measurement-time 2`
 //! (the task layer is pure Rust). `KINSCENE_BENCH_QUICK=1` shrinks the instance sets,
-//! `KINSCENE_BENCH_CELLS=10x3,100x20` selects cells, `KINSCENE_BENCH_VERBOSE=1` prints one
-//! line per run.
+//! `KINSCENE_BENCH_CELLS=10x3,100x20` selects cells, `KINSCENE_BENCH_PLANNERS=search,paper`
+//! selects planners (labels as in the table), `KINSCENE_BENCH_VERBOSE=1` prints one line per
+//! run.
 
 #[path = "../tests/task/generators.rs"]
 mod generators;
@@ -579,6 +580,14 @@ fn selected(parts: usize, goals: usize) -> bool {
     }
 }
 
+/// `KINSCENE_BENCH_PLANNERS=search,paper`: only these planners, by label (default: all).
+fn planner_selected(planner: Planner) -> bool {
+    match std::env::var("KINSCENE_BENCH_PLANNERS") {
+        Ok(list) if !list.trim().is_empty() => list.split(',').any(|p| p.trim() == planner.label()),
+        _ => true,
+    }
+}
+
 /// [`SEARCH_BUDGET`], or `KINSCENE_BENCH_SEARCH_BUDGET` seconds.
 fn search_budget() -> Duration {
     std::env::var("KINSCENE_BENCH_SEARCH_BUDGET")
@@ -588,7 +597,8 @@ fn search_budget() -> Duration {
         .unwrap_or(SEARCH_BUDGET)
 }
 
-/// The search's `heuristic_weight`: the default (1), or `KINSCENE_BENCH_WEIGHT`.
+/// The search's `heuristic_weight`: the default (1, A*), or `KINSCENE_BENCH_WEIGHT` (2: the
+/// focal order for large rooms).
 fn heuristic_weight() -> f64 {
     std::env::var("KINSCENE_BENCH_WEIGHT")
         .ok()
@@ -1042,6 +1052,7 @@ fn measure() -> Vec<Cell> {
                 if BRUTE_CELLS.contains(&(parts, goals)) {
                     planners.push(Planner::Brute);
                 }
+                planners.retain(|p| planner_selected(*p));
                 let mut runs = Vec::new();
                 for planner in planners {
                     let count = match planner {

@@ -222,6 +222,16 @@ impl<'a> Heuristic<'a> {
                 * (v[to as usize] - v[from as usize]).abs()
     }
 
+    /// The number of goal targets a state does not meet.
+    pub fn unmet(&self, key: &[u16]) -> usize {
+        self.problem
+            .goal
+            .targets()
+            .iter()
+            .filter(|(j, i)| !i.contains(self.lattice.values(*j)[key[j.index()] as usize]))
+            .count()
+    }
+
     /// The `work` term of a state.
     pub fn work(&self, key: &[u16]) -> f64 {
         let c = &self.settings.cost;

@@ -1,12 +1,13 @@
-//! The complete lattice search: lazy A* over lattice states with a closed set, grown over an
-//! active joint set.
+//! The complete lattice search: lazy best-first search over lattice states with a closed set,
+//! in focal order ([`Open`]; A* with `heuristic_weight = 1`), grown over an active joint set.
 //!
 //! Its model, with the move re-queue and the rounds that stop early to grow the active set, is
 //! `search_run` in `proofs/theories/Task/Requeue.v` (soundness, completeness over all joints,
-//! termination; a re-queued key stays a lower bound: `RequeueKey.v`).
+//! termination; a re-queued key stays a lower bound: `RequeueKey.v`). The model pops any open
+//! item, so the focal order is covered; the sweep prefetch only reads the next open items.
 
 use std::cmp::Ordering;
-use std::collections::{BinaryHeap, HashMap, HashSet};
+use std::collections::{BTreeSet, HashMap, HashSet};
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -54,29 +55,129 @@ enum Item {
 }
 
 struct Entry {
+    /// Lower bound on the cost of a plan through this item (`g + h`).
     f: f64,
     g: f64,
+    /// Goal targets still unmet after this item (the focal order's first key).
+    unmet: usize,
     seq: u64,
     item: Item,
 }
 
-impl PartialEq for Entry {
+/// An `f64` ordered by [`f64::total_cmp`].
+#[derive(Debug, Clone, Copy)]
+struct Ordered(f64);
+
+impl PartialEq for Ordered {
     fn eq(&self, o: &Self) -> bool {
-        self.cmp(o) == Ordering::Equal
+        self.0.total_cmp(&o.0) == Ordering::Equal
     }
 }
-impl Eq for Entry {}
-impl PartialOrd for Entry {
+impl Eq for Ordered {}
+impl PartialOrd for Ordered {
     fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
         Some(self.cmp(o))
     }
 }
-impl Ord for Entry {
-    /// Max-heap order: lowest f first, then highest g (deeper), then oldest.
+impl Ord for Ordered {
     fn cmp(&self, o: &Self) -> Ordering {
-        o.f.total_cmp(&self.f)
-            .then(self.g.total_cmp(&o.g))
-            .then(o.seq.cmp(&self.seq))
+        self.0.total_cmp(&o.0)
+    }
+}
+
+/// The open list of a focal search (A*ε, Pearl and Kim 1982): the items whose `f` is within
+/// the factor `weight` of the least open `f` form the *focal* set, and the search pops the
+/// focal item with the fewest unmet goal targets (then lowest `f`, deepest, oldest). With
+/// `weight = 1` the focal set holds only the items of least `f`: A* with ties broken by
+/// progress.
+struct Open {
+    weight: f64,
+    items: HashMap<u64, Entry>,
+    by_f: BTreeSet<(Ordered, u64)>,
+    /// Focal order: unmet targets, f, −g, seq.
+    focal: BTreeSet<(usize, Ordered, Ordered, u64)>,
+    /// `weight · (least open f)`: the focal set is every item with `f <= bound`.
+    bound: f64,
+}
+
+impl Open {
+    fn new(weight: f64) -> Self {
+        Open {
+            weight,
+            items: HashMap::new(),
+            by_f: BTreeSet::new(),
+            focal: BTreeSet::new(),
+            bound: f64::NEG_INFINITY,
+        }
+    }
+
+    fn focal_key(e: &Entry) -> (usize, Ordered, Ordered, u64) {
+        (e.unmet, Ordered(e.f), Ordered(-e.g), e.seq)
+    }
+
+    /// The focal bound for least open `f` `f_min` (a small absolute slack keeps items of
+    /// equal `f` up to rounding together).
+    fn bound_for(&self, f_min: f64) -> f64 {
+        self.weight * f_min + 1e-9
+    }
+
+    /// Moves items into or out of the focal set after the least open `f` changed.
+    fn rebound(&mut self) {
+        let new = match self.by_f.first() {
+            Some((f, _)) => self.bound_for(f.0),
+            None => f64::NEG_INFINITY,
+        };
+        let old = self.bound;
+        if new > old {
+            let range = (
+                std::ops::Bound::Excluded((Ordered(old), u64::MAX)),
+                std::ops::Bound::Included((Ordered(new), u64::MAX)),
+            );
+            for (_, seq) in self.by_f.range(range) {
+                let e = &self.items[seq];
+                self.focal.insert(Self::focal_key(e));
+            }
+        } else if new < old {
+            let range = (
+                std::ops::Bound::Excluded((Ordered(new), u64::MAX)),
+                std::ops::Bound::Included((Ordered(old), u64::MAX)),
+            );
+            for (_, seq) in self.by_f.range(range) {
+                let e = &self.items[seq];
+                self.focal.remove(&Self::focal_key(e));
+            }
+        }
+        self.bound = new;
+    }
+
+    fn push(&mut self, e: Entry) {
+        let seq = e.seq;
+        self.by_f.insert((Ordered(e.f), seq));
+        if e.f <= self.bound {
+            self.focal.insert(Self::focal_key(&e));
+        }
+        self.items.insert(seq, e);
+        // A new least `f` lowers the bound (or sets the first one).
+        if self.by_f.first().is_some_and(|(_, s)| *s == seq) {
+            self.rebound();
+        }
+    }
+
+    fn pop(&mut self) -> Option<Entry> {
+        let key = *self.focal.first()?;
+        self.focal.remove(&key);
+        let e = self
+            .items
+            .remove(&key.3)
+            .expect("a focal item is an open item");
+        self.by_f.remove(&(Ordered(e.f), e.seq));
+        self.rebound();
+        Some(e)
+    }
+
+    /// The next `n` items in pop order (without popping them).
+    fn peek(&self, n: usize) -> impl Iterator<Item = &Entry> {
+        self.focal.iter().take(n).map(|k| &self.items[&k.3])
     }
 }
 
@@ -143,9 +244,8 @@ pub(crate) fn run(
         }
     }
     let w = settings.heuristic_weight;
-    // The priority of a state with the robot at `cell`.
-    let h =
-        |key: &[u16], cell: usize| w * (heuristic.work(key) + heuristic.travel_of(key).at(cell));
+    // The lower bound on the cost still to pay from a state with the robot at `cell`.
+    let h = |key: &[u16], cell: usize| heuristic.work(key) + heuristic.travel_of(key).at(cell);
     let mut active = vec![false; model.nq()];
     for (j, _) in problem.goal.targets() {
         close_over_ancestors(model, *j, &mut active);
@@ -162,7 +262,7 @@ pub(crate) fn run(
         stats.active_joints = active.iter().filter(|a| **a).count();
         let mut nodes: Vec<Node> = Vec::new();
         let mut closed: HashSet<Key> = HashSet::new();
-        let mut heap = BinaryHeap::new();
+        let mut heap = Open::new(w);
         let mut seq = 0u64;
         let mut failures: Vec<Recorded> = Vec::new();
         let mut new_blockers = vec![false; model.nq()];
@@ -172,6 +272,7 @@ pub(crate) fn run(
         heap.push(Entry {
             f: h(&start_key, checker.start_cell),
             g: 0.0,
+            unmet: heuristic.unmet(&start_key),
             seq,
             item: Item::Node(Box::new(Node {
                 key: start_key.clone(),
@@ -276,8 +377,9 @@ pub(crate) fn run(
                                 .max(approach[j]);
                             seq += 1;
                             heap.push(Entry {
-                                f: g + lb + w * heuristic.work(&next) + travel,
+                                f: g + lb + heuristic.work(&next) + travel,
                                 g: g + lb,
+                                unmet: heuristic.unmet(&next),
                                 seq,
                                 item: Item::Edge {
                                     from: idx,
@@ -312,10 +414,9 @@ pub(crate) fn run(
                             nodes[from].robot,
                             joint,
                             to,
-                            &|cell| w * travel.at(cell),
+                            &|cell| travel.at(cell),
                         )?;
-                        let f =
-                            nodes[from].g + settings.cost.action + w * heuristic.work(&next) + b;
+                        let f = nodes[from].g + settings.cost.action + heuristic.work(&next) + b;
                         let item = Item::Edge {
                             from,
                             joint,
@@ -327,6 +428,7 @@ pub(crate) fn run(
                             heap.push(Entry {
                                 f,
                                 g: entry.g,
+                                unmet: entry.unmet,
                                 seq,
                                 item,
                             });
@@ -335,25 +437,20 @@ pub(crate) fn run(
                     }
                     // Check the sweeps of this and the next few pending moves in parallel.
                     let mut batch = vec![(nodes[from].key.clone(), joint, to)];
-                    let mut held = Vec::new();
-                    while batch.len() < threads && held.len() < 4 * threads {
-                        match heap.pop() {
-                            Some(e) => {
-                                if let Item::Edge {
-                                    from,
-                                    joint,
-                                    to,
-                                    bounded: true,
-                                } = &e.item
-                                {
-                                    batch.push((nodes[*from].key.clone(), *joint, *to));
-                                }
-                                held.push(e);
-                            }
-                            None => break,
+                    for e in heap.peek(4 * threads) {
+                        if batch.len() >= threads {
+                            break;
+                        }
+                        if let Item::Edge {
+                            from,
+                            joint,
+                            to,
+                            bounded: true,
+                        } = &e.item
+                        {
+                            batch.push((nodes[*from].key.clone(), *joint, *to));
                         }
                     }
-                    heap.extend(held);
                     prefetch_sweeps(model, &checker, &mut caches, &mut stats, &batch)?;
                     stats.evaluated += 1;
                     let key = nodes[from].key.clone();
@@ -395,6 +492,7 @@ pub(crate) fn run(
                             heap.push(Entry {
                                 f: g + h(&next, choice.cell),
                                 g,
+                                unmet: entry.unmet,
                                 seq,
                                 item: Item::Node(Box::new(Node {
                                     key: next,
@@ -685,4 +783,74 @@ fn infeasibility(
         conflicts,
         start_collisions,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn entry(f: f64, g: f64, unmet: usize, seq: u64) -> Entry {
+        Entry {
+            f,
+            g,
+            unmet,
+            seq,
+            item: Item::Edge {
+                from: 0,
+                joint: JointId(0),
+                to: 0,
+                bounded: false,
+            },
+        }
+    }
+
+    /// The focal open list pops exactly what its definition says, against a brute-force
+    /// scan of the open items: among those with `f <= w · (least f) + 1e-9`, the least by
+    /// (unmet, f, −g, seq) (with `w = 1`: the least `f`, as A*).
+    #[test]
+    fn focal_open_list_matches_its_definition() {
+        for weight in [1.0, 1.5, 2.0] {
+            let mut open = Open::new(weight);
+            let mut shadow: Vec<(f64, f64, usize, u64)> = Vec::new();
+            let mut state = 0x9e37_79b9_7f4a_7c15u64;
+            let mut next = || {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                state
+            };
+            for seq in 0..3000u64 {
+                if next() % 3 != 0 {
+                    let f = (next() % 1000) as f64 / 10.0;
+                    let g = (next() % 100) as f64 / 10.0;
+                    let unmet = (next() % 6) as usize;
+                    open.push(entry(f, g, unmet, seq));
+                    shadow.push((f, g, unmet, seq));
+                    continue;
+                }
+                let popped = open.pop();
+                let least = shadow.iter().map(|e| e.0).fold(f64::INFINITY, f64::min);
+                let expected = shadow
+                    .iter()
+                    .filter(|e| e.0 <= weight * least + 1e-9)
+                    .min_by(|a, b| {
+                        a.2.cmp(&b.2)
+                            .then(a.0.total_cmp(&b.0))
+                            .then((-a.1).total_cmp(&-b.1))
+                            .then(a.3.cmp(&b.3))
+                    })
+                    .copied();
+                match (popped, expected) {
+                    (None, None) => {}
+                    (Some(p), Some(e)) => {
+                        assert_eq!(p.seq, e.3, "weight {weight}: popped {} expected {e:?}", p.f);
+                        shadow.retain(|s| s.3 != e.3);
+                    }
+                    (p, e) => panic!("popped {:?}, expected {e:?}", p.map(|p| p.seq)),
+                }
+                let peeked: Vec<u64> = open.peek(3).map(|e| e.seq).collect();
+                assert!(peeked.len() <= 3);
+            }
+        }
+    }
 }

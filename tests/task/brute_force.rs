@@ -16,7 +16,10 @@
 //!   `Feasibility::check` in the state it is applied in, and the plan ends in a goal state;
 //!   it also passes the independent [`validate`];
 //! - the plan's documented cost equals the enumeration's cheapest cost: the docs promise
-//!   minimal cost "exactly when `travel = 0`". Tolerance: relative 2e-3, because the search
+//!   minimal cost "exactly when `travel = 0`" with `heuristic_weight = 1` (A*, the default),
+//!   which this comparison sets; with the focal order (`heuristic_weight` 2) the verdict must be
+//!   the same and a plan must validate and cost at most `heuristic_weight` times the
+//!   optimum (same tolerance). Tolerance: relative 2e-3, because the search
 //!   measures a revolute handle's travel as a 16-chord polyline (up to 6.5e-4 shorter than
 //!   the arc for 2 rad, see `cases::step_cost_is_the_documented_arc_length`), so it may pick
 //!   among plans within that margin. (The active joint set can break this promise when a
@@ -227,6 +230,10 @@ pub fn compare(
     let mut settings = TaskSettings::default();
     settings.lattice.interior_values = interior_values;
     settings.cost.travel = 0.0;
+    // A* (the exact minimum is promised for `heuristic_weight = 1`, the default); the focal
+    // order for large rooms (2) is checked against the same enumeration below.
+    let focal_weight = 2.0;
+    settings.heuristic_weight = 1.0;
     let what = format!(
         "kitchen {:?}, interior_values {interior_values}, goal:\n{}",
         kitchen.params,
@@ -321,6 +328,45 @@ pub fn compare(
             );
         }
         (Outcome::Timeout(_), _) => prop_assert!(false, "timeout without a budget: {what}"),
+    }
+    // The focal order (src/task/settings.rs, `heuristic_weight` 2): the same verdict,
+    // and a plan that validates and costs at most `w` times the optimum.
+    let focal_settings = TaskSettings {
+        heuristic_weight: focal_weight,
+        ..settings.clone()
+    };
+    let focal = plan(
+        model,
+        &problem,
+        &focal_settings,
+        &NoRefinement,
+        &Termination::none(),
+    )
+    .map_err(|e| TestCaseError::fail(format!("focal plan failed: {e} on {what}")))?;
+    match (&focal.outcome, &reference.best) {
+        (Outcome::Solved(p), Some((best, _))) => {
+            prop_assert!(
+                p.cost <= focal_weight * best * (1.0 + 2e-3) + 1e-9,
+                "focal plan cost {} exceeds {focal_weight} × the optimum {best}: {what}",
+                p.cost
+            );
+            let v = validate(model, &problem, &p.steps, &focal_settings)
+                .map_err(|e| TestCaseError::fail(format!("validate failed: {e}; {what}")))?;
+            prop_assert!(
+                v.valid,
+                "the focal plan does not validate: {v:?}; {p:?}; {what}"
+            );
+        }
+        (Outcome::Infeasible(_), None) => {}
+        (o, b) => prop_assert!(
+            false,
+            "focal verdict {o:?} disagrees with the enumeration ({}): {what}",
+            if b.is_some() {
+                "a plan exists"
+            } else {
+                "no plan"
+            }
+        ),
     }
     let summary = match &result.outcome {
         Outcome::Solved(p) => format!("solved in {} steps", p.steps.len()),

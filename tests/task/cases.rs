@@ -918,6 +918,8 @@ fn zero_travel_cost_is_minimal_over_the_active_joints_only() {
     );
     let mut s = settings(0);
     s.cost.travel = 0.0;
+    // A*: the minimum over the active joints is promised for `heuristic_weight = 1`.
+    s.heuristic_weight = 1.0;
     // The cheaper plan is feasible: by the search's own predicate and by the validator.
     let step = |joint: &str, from: f64, to: f64| kinscene::task::Step {
         joint: joint.into(),

@@ -13,7 +13,7 @@
       flag; [qrequeue] pushes it back bounded; [qprocess] is Search.v's [process]; [qstep]
       pops ANY item and applies EITHER ([qpop r], [r] = "the tightened key is larger"), so
       every result holds whatever the bounds, the keys and the heap order are. The parallel
-      sweep prefetch pops items and pushes them back unchanged (no effect in the model).
+      sweep prefetch only peeks at the next open items (no effect in the model).
     - EARLY GROWTH. Every [GROW_CHECK] node pops (from [GROW_CHECK·2^(r−1)] on in round [r])
       the round computes the blockers of its deferred failures and leaves the [while] loop
       when some failure names a joint outside the active set, or one has unknown blockers and
