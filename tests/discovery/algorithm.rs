@@ -401,3 +401,37 @@ fn the_discovered_scene_exports_to_urdf_and_loads_back() {
     let json = serde_json::to_string(&d.log).unwrap();
     assert!(json.contains("Registered"));
 }
+
+/// The drawer at 5 mm depth noise (the target noise level) with the two-view
+/// estimator, over three seeds. The post view (from a step back) sees the drawer pulled 30 cm
+/// towards it hiding the carcass face below it; those static points are segmented with the
+/// drawer, and without the contact-path check a ~90–120° rotation mapping them onto the
+/// drawer's top won on BIC in 6 of 6 seeds. Now: prismatic, axis within 2° (the estimator's
+/// target at 5 mm), the path check named in the details.
+#[test]
+fn the_drawer_at_5mm_noise_is_prismatic_two_view() {
+    for seed in 0..3 {
+        let mut world = World::new(
+            drawer_cabinet(),
+            start(),
+            WorldSettings {
+                depth_noise: 0.005,
+                ..WorldSettings::default()
+            },
+            100 + seed,
+        );
+        let handles = map(&mut world);
+        let base = world.model.base().clone();
+        let d = discover(
+            &mut world,
+            &base,
+            &handles,
+            &TwoView::default(),
+            &DiscoverySettings::default(),
+        )
+        .unwrap();
+        check_joint(&d, JointKind::Prismatic, DRAWER_AXIS, None, 2.0, 0.0);
+        let details = &d.log[0].estimate.as_ref().expect("estimated").details;
+        assert!(details.contains("path residual"), "{details}");
+    }
+}

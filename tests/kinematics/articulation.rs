@@ -1069,7 +1069,8 @@ fn bad_input_is_an_error() {
 // The error table of the closing note.
 
 /// Prints errors per estimator and noise level over all scenarios and 3 seeds:
-/// `cargo test --test lib articulation_error_table -- --ignored --nocapture`.
+/// `cargo test --test lib articulation_error_table -- --ignored --nocapture`
+/// (`KS_TABLE_ROWS=two-view:5` in the environment prints one row only).
 #[test]
 #[ignore = "measurement table; run with --ignored --nocapture"]
 fn articulation_error_table() {
@@ -1078,8 +1079,14 @@ fn articulation_error_table() {
         "| estimator | σ (mm) | type acc. | axis err. mean / max (°) | pivot err. mean / max (cm) | travel err. rev (°) / pri (cm) | IoU mean |"
     );
     println!("|---|---|---|---|---|---|---|");
+    // `KS_TABLE_ROWS=two-view:5` limits the table to one estimator and noise level.
+    let only = std::env::var("KS_TABLE_ROWS").ok();
     for est in estimators() {
         for sigma in [0.002, 0.005, 0.010] {
+            let row = format!("{}:{}", est.name(), (sigma * 1000.0f64).round());
+            if only.as_ref().is_some_and(|o| *o != row) {
+                continue;
+            }
             let mut kinds = Vec::new();
             let (mut axis, mut pivot, mut rev, mut pri, mut iou) =
                 (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
@@ -1136,5 +1143,40 @@ fn articulation_error_table() {
                 },
             );
         }
+    }
+}
+
+/// Time per two-view estimate with and without the voxel thinning of the ICP points, run
+/// interleaved (the minimum of 5 runs each, robust to other load on the machine):
+/// `cargo test --test lib two_view_timing -- --ignored --nocapture`.
+#[test]
+#[ignore = "timing; run with --ignored --nocapture"]
+fn two_view_timing() {
+    let thinned = TwoView::default();
+    let unthinned = TwoView {
+        settings: TwoViewSettings {
+            icp_voxel: 0.0,
+            ..Default::default()
+        },
+    };
+    for s in &scenarios() {
+        let o = observe(s, 0.005, 0.05, 100, 1.0);
+        let mut best = [f64::INFINITY; 2];
+        for _ in 0..5 {
+            for (k, est) in [&thinned, &unthinned].iter().enumerate() {
+                let t = std::time::Instant::now();
+                let e = est.estimate(&o.interaction()).expect("valid input");
+                best[k] = best[k].min(t.elapsed().as_secs_f64());
+                assert!(e.joint.kind() == s.truth.kind(), "{}", s.name);
+            }
+        }
+        println!(
+            "{}: {} + {} points, {:.0} ms thinned, {:.0} ms unthinned",
+            s.name,
+            o.pre.points.len(),
+            o.post.points.len(),
+            best[0] * 1e3,
+            best[1] * 1e3
+        );
     }
 }

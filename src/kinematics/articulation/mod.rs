@@ -7,7 +7,8 @@
 //!
 //! - [`TwoView`]: segment the moving part from the two clouds, register it rigidly (robust ICP
 //!   with closed-form Kabsch steps), decompose the motion into a screw and select the joint type
-//!   by BIC.
+//!   by BIC, checked against the end effector's recorded path when there is one; the chosen
+//!   model is refined (point-to-plane for a translation).
 //! - [`Proprioceptive`]: fit prismatic (line) and rotational (circle) models to the end-effector
 //!   poses with MLESAC and select by BIC (Sturm, Stachniss, Burgard 2011).
 //! - A learned estimator (the paper's DiTH network) implements [`ArticulationEstimator`] from
