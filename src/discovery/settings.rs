@@ -91,7 +91,11 @@ pub struct DiscoverySettings {
     /// 0.4.
     pub default_prismatic_upper: f64,
     /// A handle within this distance (m) of an already registered part's collider (at the
-    /// part's current estimated pose) is nested on that part. Default 0.05.
+    /// part's current estimated pose) is nested on that part. Default 0.05. Known limit: the
+    /// test is purely geometric, so a child whose handle stands farther than this from its
+    /// parent's estimated box (a dishwasher rack whose handle is 0.1–0.2 m in front of the
+    /// opened door's face) is registered on the base map; raise it for such scenes, at the
+    /// risk of nesting a neighbouring part's handle.
     pub nest_margin: f64,
     /// Quantile trimmed at each end of the part's points for its bounding box, in [0, 0.5).
     /// Default 0.01.
