@@ -707,6 +707,9 @@ fn path_to_base_follows_the_urdf_tree() {
             .map(|p| model.part(p).unwrap().name().to_string())
             .collect()
     };
-    assert_eq!(names("dishwasher_rack"), ["dishwasher_rack", "dishwasher_door"]);
+    assert_eq!(
+        names("dishwasher_rack"),
+        ["dishwasher_rack", "dishwasher_door"]
+    );
     assert_eq!(names("sink_door"), ["sink_door"]);
 }

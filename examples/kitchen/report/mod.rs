@@ -1,0 +1,2 @@
+//! Outputs of the kitchen example.
+pub mod svg;
