@@ -67,8 +67,11 @@ pub(crate) fn horizontal(normal: &Vector3<f64>, fallback: &Vector2<f64>) -> Opti
 /// The nominal position `target + distance · direction` is used if free. Otherwise candidates
 /// on rings around the target are searched: directions turned by multiples of 10° up to ±60°
 /// and distances changed by multiples of 5 cm, no closer than half the nominal distance, all
-/// within `search_radius` of the nominal position; the free candidate nearest to the nominal
-/// position wins (ties: the smaller turn). `None` if none is free.
+/// within `search_radius` of the nominal position. The free candidate whose distance to the
+/// handle is nearest the nominal one wins (ties: the smaller turn, then the nearer to the
+/// nominal position): the arm's reach depends on that distance, not on the heading, so in a
+/// narrow passage a pose turned to the side at the right distance beats a frontal one too close
+/// to the front for the arm. `None` if none is free.
 pub(crate) fn plan_base(
     free: &FreeSpace,
     target: &Point3<f64>,
@@ -82,7 +85,8 @@ pub(crate) fn plan_base(
         return Some(facing(nominal, target));
     }
     let radial = (search_radius / RADIAL_STEP).floor() as i64;
-    let mut best: Option<(f64, f64, Point2<f64>)> = None;
+    // (distance error, turn, offset from the nominal position), compared in that order.
+    let mut best: Option<(f64, f64, f64, Point2<f64>)> = None;
     for a in -6i64..=6 {
         let angle = a as f64 * ANGLE_STEP;
         let dir = nalgebra::Rotation2::new(angle) * direction;
@@ -96,18 +100,21 @@ pub(crate) fn plan_base(
             if off > search_radius || !free.is_free(&p) {
                 continue;
             }
+            let key = ((dist - distance).abs(), angle.abs(), off);
             let better = match best {
                 None => true,
-                Some((o, turn, _)) => {
-                    off < o - 1e-12 || (off <= o + 1e-12 && angle.abs() < turn - 1e-12)
+                Some((e, turn, o, _)) => {
+                    key.0 < e - 1e-12
+                        || (key.0 <= e + 1e-12
+                            && (key.1 < turn - 1e-12 || (key.1 <= turn + 1e-12 && key.2 < o)))
                 }
             };
             if better {
-                best = Some((off, angle.abs(), p));
+                best = Some((key.0, key.1, key.2, p));
             }
         }
     }
-    best.map(|(_, _, p)| facing(p, target))
+    best.map(|(_, _, _, p)| facing(p, target))
 }
 
 /// Reposition's move: `from` translated by `shift` (world frame, horizontal), re-aimed at
