@@ -73,7 +73,7 @@ struct Args {
     /// ground truth to choose: an experiment shortcut).
     #[arg(long)]
     needed_only: bool,
-    /// Head camera rays, COLUMNSxROWS (default 160x120; 96x72 with --quick).
+    /// Head camera rays, COLUMNSxROWS (default 320x240; 160x120 with --quick).
     #[arg(long, value_parser = parse_rays)]
     head_rays: Option<(usize, usize)>,
     /// Put wall-clock times into the report.

@@ -37,11 +37,14 @@ pub struct Discovery {
 /// 1. **PlanBase(h)**: the base pose facing `h` at `approach_distance` along the handle's
 ///    registered normal (its horizontal part; for a nearly vertical normal, the direction
 ///    from the handle to the robot), free in the current scene's navigation grid inflated by
-///    `robot_radius`; if the nominal position is occupied, the nearest free position on rings
-///    around the handle (turns up to ±60°, distance changes up to `base_search_radius`).
+///    `robot_radius`; if the nominal position is occupied, a free position on rings around
+///    the handle (turns up to ±60°, within `base_search_radius` of the nominal position):
+///    the one whose distance to the handle is nearest the nominal distance, then the smaller
+///    turn, then the nearer to the nominal position.
 ///    No pose: a [`Stage::Navigation`] failure.
 /// 2. **GlobalNavTo**, then **DetectHandle**: the detection nearest to `h` within
-///    `redetect_radius`. A navigation failure is [`Stage::Navigation`]; no detection (or no
+///    `redetect_radius`, over up to `redetect_tries` detector frames (the first frame with
+///    one wins). A navigation failure is [`Stage::Navigation`]; no detection (or no
 ///    observation) is [`Stage::Mapping`] (the mapped handle was not real where mapped).
 ///    The surface normal is refined by a plane fit to the observation around the detection
 ///    (kept if within 45° of the registered normal).
@@ -94,10 +97,16 @@ pub struct Discovery {
 ///    onto the estimated axis; prismatic: the axis through the contact. Its frame is aligned
 ///    with the map frame at discovery time, so the part frame at value 0 is the closed pose
 ///    observed before the interaction. Limits `[0, max(observed, default upper)]`
-///    (`default_revolute_upper`, `default_prismatic_upper`). One box collider: the oriented
-///    bounding box (PCA axes, extents trimmed by `box_trim`, at least `min_half_extent`) of
-///    the estimator's part points, or, if it returned fewer than 4, of the pre points that
-///    moved consistently with the estimated joint. One handle at the contact with the
+///    (`default_revolute_upper`, `default_prismatic_upper`). One box collider around the
+///    estimator's part points (or, if it returned fewer than 4, the pre points that moved
+///    consistently with the estimated joint), after dropping the points that cannot be the
+///    part's: for a revolute joint those beyond the hinge line (a front turns about an edge),
+///    then those within `base_clearance` of the base map (static surfaces), then those not
+///    connected to the contact. The box has one axis along the joint axis (a front's edges
+///    run along or across it), the others turned about it to the least trimmed area; extents
+///    are trimmed by `box_trim`, at least `min_half_extent` (a flat front's thickness is
+///    padded behind its observed surface, against the normal). Each drop is noted in the
+///    log. One handle at the contact with the
 ///    refined normal. The parent is the already registered part whose collider, at its
 ///    current estimated pose, is within `nest_margin` of the contact (the nearest; ties to
 ///    the deeper part) — a dishwasher rack reached through its open door — else the base

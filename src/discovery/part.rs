@@ -2,7 +2,7 @@
 
 use nalgebra::{Isometry3, Point3, Translation3, Unit, UnitQuaternion, Vector3};
 
-use super::cloud::{VoxelIndex, connected_to, oriented_box};
+use super::cloud::{VoxelIndex, connected_to, oriented_box_along};
 use super::settings::DiscoverySettings;
 use super::shapes::PlacedShape;
 use crate::kinematics::articulation::{Estimate, JointEstimate, PointCloud};
@@ -147,6 +147,27 @@ pub(crate) fn new_part(
             points.len()
         ));
     }
+    if kind == JointKind::Revolute {
+        let before = points.len();
+        points = hinge_side(points, &axis, &origin, &c);
+        if points.len() < before {
+            notes.push(format!(
+                "{} of {before} part points lie beyond the hinge line (a front turns about an \
+                 edge); dropped from the box",
+                before - points.len()
+            ));
+        }
+    }
+    let before = points.len();
+    let points = clear_of_base(model, points, s.base_clearance);
+    if points.len() < before {
+        notes.push(format!(
+            "{} of {before} part points lie within {} m of the base map at the closed pose \
+             (static surfaces the segmentation took for the part); dropped from the box",
+            before - points.len(),
+            s.base_clearance
+        ));
+    }
     let all = points.len();
     let points = connected_to(&points, &c, SEED_RADIUS, CONNECTIVITY);
     if points.len() < all {
@@ -155,7 +176,13 @@ pub(crate) fn new_part(
             all - points.len()
         ));
     }
-    match oriented_box(&points, s.box_trim, s.min_half_extent) {
+    match oriented_box_along(
+        &points,
+        &axis,
+        Some(&observed.normal.into_inner()),
+        s.box_trim,
+        s.min_half_extent,
+    ) {
         Some(b) => {
             let world_from_box =
                 Isometry3::from_parts(Translation3::from(b.center.coords), b.rotation);
@@ -185,6 +212,56 @@ pub(crate) fn new_part(
         notes,
         closed,
     })
+}
+
+/// Points of a turning part beyond this distance (m) on the far side of its hinge line are
+/// not the part's: none (a front's hinge edge is on the axis; the neighbouring front flush
+/// with it is 3 mm away).
+const HINGE_MARGIN: f64 = 0.0;
+
+/// The points of `points` on the contact's side of the hinge line, or beyond it by at most
+/// [`HINGE_MARGIN`]: the plane through the axis (`axis` unit, through `origin`) normal to the
+/// contact's perpendicular offset from it. A cabinet door, an oven or dishwasher door, a
+/// flap turns about one of its edges, so everything on the other side is static (the
+/// neighbouring fronts near the hinge, which the turning front hides in the post view and
+/// the rotation moves little). A front turning about an axis through its middle (a pivot
+/// window) would lose its far half; kitchens have none. With the contact on the axis, all
+/// points are kept.
+fn hinge_side(
+    points: Vec<Point3<f64>>,
+    axis: &Vector3<f64>,
+    origin: &Point3<f64>,
+    contact: &Point3<f64>,
+) -> Vec<Point3<f64>> {
+    let off = contact - origin;
+    let Some(u) = (off - axis * off.dot(axis)).try_normalize(1e-6) else {
+        return points;
+    };
+    points
+        .into_iter()
+        .filter(|p| (p - origin).dot(&u) >= -HINGE_MARGIN)
+        .collect()
+}
+
+/// The points of `points` (the part at its closed pose, map frame) farther than `clearance`
+/// from every shape of the model's base map. A front closed in its carcass stands in front of
+/// the static surfaces around it, so points on them are static surfaces taken for the part
+/// (seen through the gap the open part left, or within the segmentation's tolerance); kept in
+/// the box they make it overlap the carcass at the closed state.
+fn clear_of_base(model: &SceneModel, points: Vec<Point3<f64>>, clearance: f64) -> Vec<Point3<f64>> {
+    if clearance <= 0.0 {
+        return points;
+    }
+    let base: Vec<PlacedShape> = model
+        .base()
+        .shapes
+        .iter()
+        .filter_map(|b| PlacedShape::new(&b.shape, &b.world_from_shape))
+        .collect();
+    points
+        .into_iter()
+        .filter(|p| base.iter().all(|b| b.distance(p) > clearance))
+        .collect()
 }
 
 /// The nesting rule: the registered part (index) with a collider within `margin` of `p` at the

@@ -106,31 +106,56 @@ impl Run<'_> {
             }
         };
         checked_cloud(&o, "approach")?;
-        let detections = match self.robot.detect_handles() {
-            Ok(d) => d,
-            Err(e) => {
-                return Ok((
-                    failed(entry, Stage::Mapping, format!("detector: {e}")),
-                    None,
-                ));
+        // DetectHandle, up to `redetect_tries` frames.
+        let mut p = None;
+        let (mut seen, mut nearest) = (0usize, f64::INFINITY);
+        for _ in 0..s.redetect_tries {
+            let detections = match self.robot.detect_handles() {
+                Ok(d) => d,
+                Err(e) => {
+                    return Ok((
+                        failed(entry, Stage::Mapping, format!("detector: {e}")),
+                        None,
+                    ));
+                }
+            };
+            for (k, d) in detections.iter().enumerate() {
+                check_finite(d.position.coords.iter().copied(), || {
+                    format!("re-detection {k} of handle {index}")
+                })?;
             }
-        };
-        for (k, d) in detections.iter().enumerate() {
-            check_finite(d.position.coords.iter().copied(), || {
-                format!("re-detection {k} of handle {index}")
-            })?;
+            seen += detections.len();
+            let best = detections
+                .iter()
+                .map(|d| (d.position, (d.position - h.position).norm()))
+                .min_by(|a, b| a.1.total_cmp(&b.1));
+            if let Some((q, d)) = best {
+                nearest = nearest.min(d);
+                if d <= s.redetect_radius {
+                    p = Some(q);
+                    break;
+                }
+            }
         }
-        let Some(p) = detections
-            .iter()
-            .map(|d| d.position)
-            .filter(|q| (q - h.position).norm() <= s.redetect_radius)
-            .min_by(|a, b| (a - h.position).norm().total_cmp(&(b - h.position).norm()))
-        else {
+        let Some(p) = p else {
+            let b = self.robot.base_pose();
+            let near = if nearest.is_finite() {
+                format!(", the nearest {nearest:.2} m away")
+            } else {
+                String::new()
+            };
             return Ok((
                 failed(
                     entry,
                     Stage::Mapping,
-                    format!("not re-detected within {} m", s.redetect_radius),
+                    format!(
+                        "not re-detected within {} m in {} frame(s) from base ({:.2}, {:.2}, {:.0}°): {seen} detection(s){near}",
+                        s.redetect_radius,
+                        s.redetect_tries,
+                        b.translation.x,
+                        b.translation.y,
+                        b.rotation.angle().to_degrees()
+                    ),
                 ),
                 None,
             ));

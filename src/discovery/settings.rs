@@ -8,6 +8,7 @@ use super::interface::Camera;
 /// Settings of [`discover`](super::discover). SI units; defaults are for a Stretch/Gen3-sized
 /// mobile manipulator in a kitchen.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
 pub struct DiscoverySettings {
     // --- PlanBase and navigation ---
     /// Radius of the robot's footprint (m): a planned base position must be free in the base
@@ -30,6 +31,9 @@ pub struct DiscoverySettings {
     /// The re-detected handle is the detection nearest to the mapped one within this radius
     /// (m). Default 0.15.
     pub redetect_radius: f64,
+    /// Detector calls at the approach pose before the handle counts as not re-detected (a
+    /// detector misses a visible handle now and then; each call is a fresh frame). Default 3.
+    pub redetect_tries: usize,
     // --- Observations ---
     /// Camera of the pre- and post-interaction observations (the estimator's input). Default
     /// [`Camera::Head`].
@@ -100,6 +104,10 @@ pub struct DiscoverySettings {
     /// Quantile trimmed at each end of the part's points for its bounding box, in [0, 0.5).
     /// Default 0.01.
     pub box_trim: f64,
+    /// Part points within this distance (m) of the base map at the part's closed pose are
+    /// dropped from its box (static surfaces the segmentation took for the part); 0 keeps
+    /// them. About twice the depth noise. Default 0.01.
+    pub base_clearance: f64,
     /// Smallest half extent (m) of a part's box (a front seen from one side is flat).
     /// Default 0.01.
     pub min_half_extent: f64,
@@ -114,6 +122,7 @@ impl Default for DiscoverySettings {
             post_step_back: 0.3,
             base_search_radius: 0.4,
             redetect_radius: 0.15,
+            redetect_tries: 3,
             observation_camera: Camera::Head,
             interaction_camera: Camera::Wrist,
             normal_radius: 0.12,
@@ -136,6 +145,7 @@ impl Default for DiscoverySettings {
             default_prismatic_upper: 0.4,
             nest_margin: 0.05,
             box_trim: 0.01,
+            base_clearance: 0.01,
             min_half_extent: 0.01,
         }
     }
@@ -147,7 +157,7 @@ impl DiscoverySettings {
     /// # Errors
     /// [`DiscoveryError::InvalidSetting`] naming the first invalid field: lengths and counts
     /// must be positive (distances that may be zero: `post_step_back`, `base_search_radius`,
-    /// `nest_margin`), weights and quantiles in range, `displacement_cap >
+    /// `nest_margin`, `base_clearance`), weights and quantiles in range, `displacement_cap >
     /// displacement_threshold`.
     pub fn validate(&self) -> Result<(), DiscoveryError> {
         for (name, v) in [
@@ -176,6 +186,7 @@ impl DiscoverySettings {
             ("post_step_back", self.post_step_back),
             ("base_search_radius", self.base_search_radius),
             ("nest_margin", self.nest_margin),
+            ("base_clearance", self.base_clearance),
         ] {
             check_nonneg(name, v)?;
         }
@@ -196,6 +207,7 @@ impl DiscoverySettings {
         }
         for (name, v) in [
             ("max_attempts", self.max_attempts),
+            ("redetect_tries", self.redetect_tries),
             ("max_steps", self.max_steps),
             ("min_normal_points", self.min_normal_points),
         ] {

@@ -404,9 +404,10 @@ impl Report {
              **Random**: one random order of the goal joints (the paper's baseline) on the \
              estimated model; an order the task layer rejects fails with the failure it \
              predicts, an accepted one is refined (`HierarchicalPlanner::refine`) and \
-             executed. **Oracle**: the planner on the true model. Before planning, the \
-             estimated part boxes are shrunk by 2σ of the depth noise (noise makes them that \
-             much too large, and adjacent fronts are 3–6 mm apart). Success: the \
+             executed. **Oracle**: the planner on the true model. Before planning, \
+             estimated part boxes that overlap at the closed state (depth noise makes them a \
+             little too large, and adjacent fronts are 3–6 mm apart) are cut back, one face \
+             at a time. Success: the \
              simulator's true state meets every target (within {:.2} rad / {:.0} mm).\n",
             REVOLUTE_TOLERANCE,
             PRISMATIC_TOLERANCE * 1e3
@@ -767,8 +768,8 @@ impl Report {
             let _ = writeln!(
                 s,
                 "## Digital twin\n\nThe estimated scene of run {} ({} joints) as URDF, \
-                 `twin.urdf`, with the part boxes shrunk by 2σ of the depth noise as the \
-                 planner used it: {back}.\n",
+                 `twin.urdf`, with the part boxes that overlapped at the closed state cut \
+                 back, as the planner used it: {back}.\n",
                 t.run, t.joints
             );
         }

@@ -166,11 +166,11 @@ impl Session<'_> {
 
         // Stage 2: discovery.
         let (discovery, main) = self.discover(r, &mut world, &handles, config.estimator)?;
-        let (est, overlaps) = tidy::shrink_boxes(&discovery.model, 2.0 * config.depth_noise)?;
+        let (est, overlaps) = tidy::separate_boxes(&discovery.model)?;
         for (a, b) in &overlaps {
             self.report.notes.push(format!(
                 "run {r}: in the estimated model {a} and {b} overlap at the closed state even \
-                 with the boxes shrunk"
+                 with the boxes cut back"
             ));
         }
         let matches = main.matches.clone();

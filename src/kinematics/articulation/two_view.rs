@@ -201,8 +201,10 @@ impl ArticulationEstimator for TwoView {
 ///    explains (a post neighbour within `τ` after the motion) better than the static hypothesis
 ///    by a margin `τ/4`, or as well up to that margin while moving less than `2τ` (points near a
 ///    hinge, which both explain), and over the points that neither explains although the post
-///    sensor sees the place they were (no post point in front of it by more than `τ` in a
-///    range image around the post origin): they left. Known limits: static surfaces that the
+///    sensor saw through the place they were (in a range image around the post origin, no post
+///    point in front of it by more than `τ` and one behind it by more than `τ`): they left.
+///    A point the post sensor did not see around at all (outside its field of view or range)
+///    is not evidence of motion and is left out. Known limits: static surfaces that the
 ///    motion maps onto themselves and that the moved part hides in the post view (the floor
 ///    just in front of a door turning about a vertical axis) are taken as moving; part surfaces
 ///    sliding along themselves, and thin strips of the part within `τ` of a static surface, are
@@ -421,7 +423,7 @@ fn estimate(s: &TwoViewSettings, i: &Interaction<'_>) -> Estimate {
             let d_part = residual(&q);
             let margin = tau / 4.0;
             let hinge = (q - p).norm() < 2.0 * tau;
-            let vacated = d_part > tau && d_static > tau && !post_view.occluded(p, tau);
+            let vacated = d_part > tau && d_static > tau && post_view.seen_through(p, tau);
             (d_part <= tau
                 && (d_part + margin < d_static || (hinge && d_part <= d_static + margin)))
                 || vacated

@@ -60,4 +60,22 @@ impl RangeImage {
             })
         })
     }
+    /// Whether the sensor saw through the place of `p`: nothing observed in front of it by more
+    /// than `margin` ([`occluded`](Self::occluded) is false) and, in `p`'s bin or one of its 8
+    /// neighbours, a return behind it by more than `margin`. A point outside the image (no
+    /// return around it: outside the field of view or range, or dropped) was not seen
+    /// through: its absence from the cloud says nothing either.
+    pub(crate) fn seen_through(&self, p: &Point3<f64>, margin: f64) -> bool {
+        let Some(((ka, ke), r)) = self.key(p) else {
+            return false;
+        };
+        !self.occluded(p, margin)
+            && (-1..=1).any(|da| {
+                (-1..=1).any(|de| {
+                    self.min_range
+                        .get(&(ka + da, ke + de))
+                        .is_some_and(|&m| m > r + margin)
+                })
+            })
+    }
 }
