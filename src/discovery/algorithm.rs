@@ -97,7 +97,7 @@ pub struct Discovery {
 ///    onto the estimated axis; prismatic: the axis through the contact. Its frame is aligned
 ///    with the map frame at discovery time, so the part frame at value 0 is the closed pose
 ///    observed before the interaction. Limits `[0, max(observed, default upper)]`
-///    (`default_revolute_upper`, `default_prismatic_upper`). One box collider around the
+///    (`default_revolute_upper`, `default_prismatic_upper`). Box colliders around the
 ///    estimator's part points (or, if it returned fewer than 4, the pre points that moved
 ///    consistently with the estimated joint), after dropping the points that cannot be the
 ///    part's: for a revolute joint those beyond the hinge line (a front turns about an edge),
@@ -105,9 +105,13 @@ pub struct Discovery {
 ///    connected to the contact. The box has one axis along the joint axis (a front's edges
 ///    run along or across it), the others turned about it to the least trimmed area; extents
 ///    are trimmed by `box_trim`, at least `min_half_extent` (a flat front's thickness is
-///    padded behind its observed surface, against the normal). Each drop is noted in the
-///    log. One handle at the contact with the
-///    refined normal. The parent is the already registered part whose collider, at its
+///    padded behind its observed surface, against the normal). The front's box ends at its
+///    surface (the median depth along the normal; depth noise spreads returns either side);
+///    points more than `handle_standoff` in front of it (the handle, a tray on a door) are
+///    grouped into connected clusters; those of at least 10 points whose median stands out
+///    by 1.5 `handle_standoff` or more get their own box (the rest is noise), so a handle
+///    does not thicken the whole front. Each drop and split is noted in the log. One handle
+///    at the contact with the refined normal. The parent is the already registered part whose collider, at its
 ///    current estimated pose, is within `nest_margin` of the contact (the nearest; ties to
 ///    the deeper part) — a dishwasher rack reached through its open door — else the base
 ///    map. Parts are named `part{i}` after the handle's input index, joints

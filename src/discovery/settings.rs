@@ -108,6 +108,11 @@ pub struct DiscoverySettings {
     /// dropped from its box (static surfaces the segmentation took for the part); 0 keeps
     /// them. About twice the depth noise. Default 0.01.
     pub base_clearance: f64,
+    /// Part points standing more than this (m) in front of the front's surface (the median
+    /// depth along the normal) are protrusions — the handle — and get their own boxes; the
+    /// front's box ends at the surface (kept in it, a handle thickens the whole front); 0
+    /// keeps one box around all points. About twice the depth noise. Default 0.01.
+    pub handle_standoff: f64,
     /// Smallest half extent (m) of a part's box (a front seen from one side is flat).
     /// Default 0.01.
     pub min_half_extent: f64,
@@ -146,6 +151,7 @@ impl Default for DiscoverySettings {
             nest_margin: 0.05,
             box_trim: 0.01,
             base_clearance: 0.01,
+            handle_standoff: 0.01,
             min_half_extent: 0.01,
         }
     }
@@ -157,7 +163,7 @@ impl DiscoverySettings {
     /// # Errors
     /// [`DiscoveryError::InvalidSetting`] naming the first invalid field: lengths and counts
     /// must be positive (distances that may be zero: `post_step_back`, `base_search_radius`,
-    /// `nest_margin`, `base_clearance`), weights and quantiles in range, `displacement_cap >
+    /// `nest_margin`, `base_clearance`, `handle_standoff`), weights and quantiles in range, `displacement_cap >
     /// displacement_threshold`.
     pub fn validate(&self) -> Result<(), DiscoveryError> {
         for (name, v) in [
@@ -187,6 +193,7 @@ impl DiscoverySettings {
             ("base_search_radius", self.base_search_radius),
             ("nest_margin", self.nest_margin),
             ("base_clearance", self.base_clearance),
+            ("handle_standoff", self.handle_standoff),
         ] {
             check_nonneg(name, v)?;
         }
