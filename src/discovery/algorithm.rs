@@ -111,7 +111,8 @@ pub struct Discovery {
 ///    grouped into connected clusters; those of at least 10 points whose median stands out
 ///    by 1.5 `handle_standoff` or more get their own box (the rest is noise), so a handle
 ///    does not thicken the whole front. Each drop and split is noted in the log. One handle
-///    at the contact with the refined normal. The parent is the already registered part whose collider, at its
+///    with the refined normal, at the centre of the protrusion nearest the contact if one
+///    is within 5 cm of it (the handle as the camera saw it), else at the contact. The parent is the already registered part whose collider, at its
 ///    current estimated pose, is within `nest_margin` of the contact (the nearest; ties to
 ///    the deeper part) — a dishwasher rack reached through its open door — else the base
 ///    map. Parts are named `part{i}` after the handle's input index, joints

@@ -222,6 +222,12 @@ pub fn translate(
     let spec = goal_spec(est_goal, est_start, goal.base);
     let problem = Problem::from_spec(&model, &spec)
         .map_err(|e| format!("the goal does not fit the estimated model: {e}"))?;
+    // The robot sees the start state, so it is collision-free: boxes overlapping there (a
+    // door wide open next to closed drawers) are cut back, as at the closed state.
+    let (model, _) = super::tidy::separate_boxes_at(&model, &problem.start)
+        .map_err(|e| format!("cutting back the boxes at the start state: {e}"))?;
+    let problem = Problem::from_spec(&model, &spec)
+        .map_err(|e| format!("the goal does not fit the estimated model: {e}"))?;
     let names = matches
         .iter()
         .map(|m| (m.est_joint.clone(), m.true_joint.clone()))

@@ -14,7 +14,7 @@
 //! the sink door, and the arm reaching for the sink door's handle then touched the real door.
 
 use kinscene::scene::collision::{Body, CollisionSettings, collisions, collisions_of};
-use kinscene::scene::{SceneData, SceneModel, Shape, forward_kinematics};
+use kinscene::scene::{SceneData, SceneModel, Shape, State, forward_kinematics};
 use nalgebra::{Translation3, Vector3};
 
 use super::PipelineError;
@@ -61,20 +61,25 @@ fn apply(model: &SceneModel, cut: Cut) -> Result<Option<SceneModel>, PipelineErr
     Ok(Some(builder.build()?))
 }
 
-/// The body pairs colliding at the model's zero state.
-fn closed_collisions(model: &SceneModel) -> Result<Vec<(Body, Body)>, PipelineError> {
+/// The body pairs colliding at `state`.
+fn collisions_at(model: &SceneModel, state: &State) -> Result<Vec<(Body, Body)>, PipelineError> {
     let mut data = SceneData::new(model);
-    forward_kinematics(model, &mut data, &model.zero_state())?;
+    forward_kinematics(model, &mut data, state)?;
     Ok(collisions(model, &data, &CollisionSettings::default())?
         .into_iter()
         .map(|c| (c.a, c.b))
         .collect())
 }
 
-/// Whether `part` still collides with `other` at the zero state of `model`.
-fn still_colliding(model: &SceneModel, part: usize, other: Body) -> Result<bool, PipelineError> {
+/// Whether `part` still collides with `other` at `state`.
+fn still_colliding(
+    model: &SceneModel,
+    state: &State,
+    part: usize,
+    other: Body,
+) -> Result<bool, PipelineError> {
     let mut data = SceneData::new(model);
-    forward_kinematics(model, &mut data, &model.zero_state())?;
+    forward_kinematics(model, &mut data, state)?;
     let Some(id) = model.parts().get(part).map(|p| p.id()) else {
         return Ok(false);
     };
@@ -82,9 +87,10 @@ fn still_colliding(model: &SceneModel, part: usize, other: Body) -> Result<bool,
     Ok(contacts.iter().any(|c| c.a == other || c.b == other))
 }
 
-/// The cut of least volume that separates the pair `(a, b)`, with the cut model.
+/// The cut of least volume that separates the pair `(a, b)` at `state`, with the cut model.
 fn best_cut(
     model: &SceneModel,
+    state: &State,
     a: Body,
     b: Body,
 ) -> Result<Option<(Cut, SceneModel)>, PipelineError> {
@@ -118,7 +124,7 @@ fn best_cut(
                         let Some(cut_model) = apply(model, cut)? else {
                             break;
                         };
-                        if !still_colliding(&cut_model, k, other)? {
+                        if !still_colliding(&cut_model, state, k, other)? {
                             best = Some((volume, cut, cut_model));
                             break;
                         }
@@ -139,19 +145,32 @@ fn best_cut(
 pub fn separate_boxes(
     est: &SceneModel,
 ) -> Result<(SceneModel, Vec<(String, String)>), PipelineError> {
+    separate_boxes_at(est, &est.zero_state())
+}
+
+/// As [`separate_boxes`], at `state`: a state the robot saw (a goal sequence's start, with a
+/// door wide open next to closed drawers) is collision-free, so boxes that overlap there are
+/// cut back the same way.
+///
+/// # Errors
+/// As [`separate_boxes`].
+pub fn separate_boxes_at(
+    est: &SceneModel,
+    state: &State,
+) -> Result<(SceneModel, Vec<(String, String)>), PipelineError> {
     let mut model = est.clone();
     let mut unresolved: Vec<(Body, Body)> = Vec::new();
     for _ in 0..MAX_ROUNDS {
-        let pairs = closed_collisions(&model)?;
+        let pairs = collisions_at(&model, state)?;
         let Some(&(a, b)) = pairs.iter().find(|p| !unresolved.contains(p)) else {
             break;
         };
-        match best_cut(&model, a, b)? {
+        match best_cut(&model, state, a, b)? {
             Some((_, cut_model)) => model = cut_model,
             None => unresolved.push((a, b)),
         }
     }
-    let pairs = closed_collisions(&model)?;
+    let pairs = collisions_at(&model, state)?;
     let name = |b: Body| match b {
         Body::Part(p) => model
             .part(p)
