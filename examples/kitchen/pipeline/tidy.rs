@@ -182,3 +182,64 @@ pub fn separate_boxes_at(
     let named = pairs.into_iter().map(|(a, b)| (name(a), name(b))).collect();
     Ok((model, named))
 }
+
+#[cfg(test)]
+mod tests {
+    use kinscene::scene::{Joint, JointKind, Limits, PartSpec, SceneModelBuilder};
+    use nalgebra::{Isometry3, Vector3};
+
+    use super::*;
+
+    /// Two drawer fronts side by side whose estimated boxes overlap by 1 cm in x at the closed
+    /// state (left: x 0 .. 0.50, right: x 0.49 .. 0.79; both 2 cm thick, 0.4 m tall). The
+    /// cheapest separating cut moves one x face (the face areas are 0.02 × 0.4 m², against
+    /// 0.5 × 0.4 or 0.3 × 0.4 for the y faces and 0.5 × 0.02 or 0.3 × 0.02 for the z faces, which
+    /// could not separate them anyway): after it no pair collides, one box lost some x extent
+    /// on its inner side only (at least the 1 cm overlap, at most the largest cut) and every
+    /// other extent and face is unchanged.
+    #[test]
+    fn overlapping_fronts_are_cut_on_one_face() {
+        let mut b = SceneModelBuilder::new();
+        for (name, lo, hi) in [("left", 0.0, 0.50), ("right", 0.49, 0.79)] {
+            let joint = Joint::new(
+                format!("{name}_slide"),
+                JointKind::Prismatic,
+                Isometry3::identity(),
+                -Vector3::y(),
+                Limits::new(0.0, 0.4),
+            );
+            b.add_part(PartSpec::on_base(name, joint).with_collider(
+                Shape::cuboid(Vector3::new((hi - lo) / 2.0, 0.01, 0.2)),
+                Isometry3::translation((lo + hi) / 2.0, 0.01, 0.5),
+            ));
+        }
+        let est = b.build().unwrap();
+        assert!(!collisions_at(&est, &est.zero_state()).unwrap().is_empty());
+        let (cut, left) = separate_boxes(&est).unwrap();
+        assert!(left.is_empty(), "{left:?}");
+        assert!(collisions_at(&cut, &cut.zero_state()).unwrap().is_empty());
+        // World x range of each part's box.
+        let range = |m: &SceneModel, k: usize| {
+            let c = &m.parts()[k].colliders()[0];
+            let Shape::Cuboid { half_extents: h } = &c.shape else {
+                panic!("a box")
+            };
+            let x = c.part_from_shape.translation.x;
+            ([x - h.x, x + h.x], [h.y, h.z])
+        };
+        let before = [range(&est, 0), range(&est, 1)];
+        let after = [range(&cut, 0), range(&cut, 1)];
+        let changed: Vec<usize> = (0..2).filter(|&k| before[k] != after[k]).collect();
+        assert_eq!(changed.len(), 1, "{before:?} → {after:?}");
+        let k = changed[0];
+        assert_eq!(before[k].1, after[k].1, "y and z extents kept");
+        // The outer face stays; the inner one moves in by one of CUTS.
+        let (outer, inner) = if k == 0 { (0, 1) } else { (1, 0) };
+        assert!((before[k].0[outer] - after[k].0[outer]).abs() < 1e-12);
+        let moved = (before[k].0[inner] - after[k].0[inner]).abs();
+        assert!(
+            CUTS.iter().any(|c| (c - moved).abs() < 1e-12) && moved >= 0.01,
+            "moved {moved}"
+        );
+    }
+}
