@@ -202,7 +202,9 @@ pub(crate) fn oriented_box_along(
         return None;
     }
     let axis = axis.try_normalize(1e-12)?;
-    let (mean, _) = moments(points)?;
+    let mean = Point3::from(
+        points.iter().fold(Vector3::zeros(), |s, p| s + p.coords) / points.len() as f64,
+    );
     let helper = if axis.x.abs() < 0.9 {
         Vector3::x()
     } else {
@@ -210,36 +212,11 @@ pub(crate) fn oriented_box_along(
     };
     let e0 = axis.cross(&helper).normalize();
     let e1 = axis.cross(&e0);
-    Some(box_about(
-        points,
-        mean,
-        [&axis, &e0, &e1],
-        90,
-        trim,
-        min_half_extent,
-        outward,
-    ))
-}
-
-/// The box of `points` with third axis `frame[0]` (unit) and the other two turned about it
-/// from `frame[1]`, `frame[2]` (unit, orthonormal with it) by the angle in ±`range` degrees
-/// (1° grid, then 0.1° around the best) minimising the trimmed bounding rectangle's area;
-/// extents padded to `min_half_extent`, away from `outward` on an axis within 45° of it.
-fn box_about(
-    points: &[Point3<f64>],
-    mean: Point3<f64>,
-    frame: [&Vector3<f64>; 3],
-    range: i32,
-    trim: f64,
-    min_half_extent: f64,
-    outward: Option<&Vector3<f64>>,
-) -> OrientedBox {
-    let [normal, e0, e1] = frame;
     let planar: Vec<(f64, f64)> = points
         .iter()
         .map(|p| {
             let d = p - mean;
-            (d.dot(e0), d.dot(e1))
+            (d.dot(&e0), d.dot(&e1))
         })
         .collect();
     let area = |angle: f64| {
@@ -254,12 +231,12 @@ fn box_about(
             .min_by(|x, y| x.0.total_cmp(&y.0))
             .map_or(0.0, |(_, a)| a)
     };
-    let coarse = best(&mut (-range..=range).map(|d| f64::from(d).to_radians()));
+    let coarse = best(&mut (-90..=90).map(|d| f64::from(d).to_radians()));
     let angle = best(&mut (-10..=10).map(|d| coarse + (f64::from(d) * 0.1).to_radians()));
     let (c, s) = (angle.cos(), angle.sin());
     let a0 = e0 * c + e1 * s;
-    let a1 = normal.cross(&a0);
-    let axes = Rotation3::from_matrix_unchecked(Matrix3::from_columns(&[a0, a1, *normal]));
+    let a1 = axis.cross(&a0);
+    let axes = Rotation3::from_matrix_unchecked(Matrix3::from_columns(&[a0, a1, axis]));
     let mut lo = Vector3::zeros();
     let mut hi = Vector3::zeros();
     for k in 0..3 {
@@ -283,11 +260,11 @@ fn box_about(
     }
     let mid = (lo + hi) / 2.0;
     let half = (hi - lo) / 2.0;
-    OrientedBox {
+    Some(OrientedBox {
         center: mean + axes * mid,
         rotation: UnitQuaternion::from_rotation_matrix(&axes),
         half_extents: half,
-    }
+    })
 }
 
 /// The `trim` and `1 - trim` quantiles of `values` (non-empty).
@@ -303,6 +280,46 @@ fn trimmed_range(values: impl Iterator<Item = f64>, trim: f64) -> (f64, f64) {
     (at(trim), at(1.0 - trim))
 }
 
+/// The points of `points` bucketed in cubes of side `radius` (for [`flood`]).
+fn cells(points: &[Point3<f64>], radius: f64) -> HashMap<[i64; 3], Vec<usize>> {
+    let mut cells: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
+    for (k, p) in points.iter().enumerate() {
+        cells.entry(key(p, radius)).or_default().push(k);
+    }
+    cells
+}
+
+/// Region growing from the points on `stack` (already labelled): every point reached through
+/// chains of points at most `radius` apart gets `label`.
+fn flood(
+    points: &[Point3<f64>],
+    cells: &HashMap<[i64; 3], Vec<usize>>,
+    labels: &mut [Option<usize>],
+    mut stack: Vec<usize>,
+    label: usize,
+    radius: f64,
+) {
+    while let Some(k) = stack.pop() {
+        let p = points[k];
+        let [i, j, l] = key(&p, radius);
+        for di in -1..=1 {
+            for dj in -1..=1 {
+                for dl in -1..=1 {
+                    let Some(list) = cells.get(&[i + di, j + dj, l + dl]) else {
+                        continue;
+                    };
+                    for &n in list {
+                        if labels[n].is_none() && (points[n] - p).norm() <= radius {
+                            labels[n] = Some(label);
+                            stack.push(n);
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
 /// Region growing: the points of `points` connected to `seed` through chains of points at most
 /// `radius` apart, starting from the points within `seed_radius` of `seed` (or the nearest
 /// point, if none is that close). Returns them in input order.
@@ -315,11 +332,6 @@ pub(crate) fn connected_to(
     if points.is_empty() {
         return Vec::new();
     }
-    let mut cells: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
-    for (k, p) in points.iter().enumerate() {
-        cells.entry(key(p, radius)).or_default().push(k);
-    }
-    let mut inside = vec![false; points.len()];
     let mut stack: Vec<usize> = (0..points.len())
         .filter(|&k| (points[k] - seed).norm() <= seed_radius)
         .collect();
@@ -333,34 +345,46 @@ pub(crate) fn connected_to(
             .unwrap_or(0);
         stack.push(nearest);
     }
+    let mut labels = vec![None; points.len()];
     for &k in &stack {
-        inside[k] = true;
+        labels[k] = Some(0);
     }
-    while let Some(k) = stack.pop() {
-        let p = points[k];
-        let [i, j, l] = key(&p, radius);
-        for di in -1..=1 {
-            for dj in -1..=1 {
-                for dl in -1..=1 {
-                    let Some(list) = cells.get(&[i + di, j + dj, l + dl]) else {
-                        continue;
-                    };
-                    for &n in list {
-                        if !inside[n] && (points[n] - p).norm() <= radius {
-                            inside[n] = true;
-                            stack.push(n);
-                        }
-                    }
-                }
-            }
-        }
-    }
+    flood(
+        points,
+        &cells(points, radius),
+        &mut labels,
+        stack,
+        0,
+        radius,
+    );
     points
         .iter()
-        .zip(&inside)
-        .filter(|(_, i)| **i)
+        .zip(&labels)
+        .filter(|(_, l)| l.is_some())
         .map(|(p, _)| *p)
         .collect()
+}
+
+/// The connected components of `points` (chains of points at most `radius` apart), in the
+/// order of their first point, each in input order.
+pub(crate) fn components(points: &[Point3<f64>], radius: f64) -> Vec<Vec<Point3<f64>>> {
+    let cells = cells(points, radius);
+    let mut labels = vec![None; points.len()];
+    let mut count = 0;
+    for k in 0..points.len() {
+        if labels[k].is_none() {
+            labels[k] = Some(count);
+            flood(points, &cells, &mut labels, vec![k], count, radius);
+            count += 1;
+        }
+    }
+    let mut out = vec![Vec::new(); count];
+    for (p, l) in points.iter().zip(&labels) {
+        if let Some(l) = l {
+            out[*l].push(*p);
+        }
+    }
+    out
 }
 
 #[cfg(test)]

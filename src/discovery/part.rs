@@ -2,7 +2,7 @@
 
 use nalgebra::{Isometry3, Point3, Translation3, Unit, UnitQuaternion, Vector3};
 
-use super::cloud::{VoxelIndex, connected_to, oriented_box_along};
+use super::cloud::{VoxelIndex, components, connected_to, oriented_box_along};
 use super::settings::DiscoverySettings;
 use super::shapes::PlacedShape;
 use crate::kinematics::articulation::{Estimate, JointEstimate, PointCloud};
@@ -321,7 +321,7 @@ fn split_front(
     let mut depths: Vec<f64> = points.iter().map(depth).collect();
     depths.sort_by(f64::total_cmp);
     let surface = depths[depths.len() / 2];
-    let (mut out, front): (Vec<Point3<f64>>, Vec<Point3<f64>>) = points
+    let (out, front): (Vec<Point3<f64>>, Vec<Point3<f64>>) = points
         .iter()
         .partition(|p| depth(p) > surface + s.handle_standoff);
     if 2 * out.len() > points.len() {
@@ -333,9 +333,7 @@ fn split_front(
         .collect();
     let mut clusters = Vec::new();
     let mut dropped = 0;
-    while let Some(seed) = out.first().copied() {
-        let cluster = connected_to(&out, &seed, 0.0, CONNECTIVITY);
-        out.retain(|p| !cluster.contains(p));
+    for cluster in components(&out, CONNECTIVITY) {
         let mut d: Vec<f64> = cluster.iter().map(depth).collect();
         d.sort_by(f64::total_cmp);
         let median = d[d.len() / 2] - surface;
@@ -352,14 +350,10 @@ fn split_front(
     }
 }
 
-/// Points of a turning part beyond this distance (m) on the far side of its hinge line are
-/// not the part's: none (a front's hinge edge is on the axis; the neighbouring front flush
-/// with it is 3 mm away).
-const HINGE_MARGIN: f64 = 0.0;
-
-/// The points of `points` on the contact's side of the hinge line, or beyond it by at most
-/// [`HINGE_MARGIN`]: the plane through the axis (`axis` unit, through `origin`) normal to the
-/// contact's perpendicular offset from it. A cabinet door, an oven or dishwasher door, a
+/// The points of `points` on the contact's side of the hinge line (none beyond it: a front's
+/// hinge edge is on the axis, and the neighbouring front flush with it is 3 mm away): the
+/// plane through the axis (`axis` unit, through `origin`) normal to the contact's
+/// perpendicular offset from it. A cabinet door, an oven or dishwasher door, a
 /// flap turns about one of its edges, so everything on the other side is static (the
 /// neighbouring fronts near the hinge, which the turning front hides in the post view and
 /// the rotation moves little). A front turning about an axis through its middle (a pivot
@@ -377,7 +371,7 @@ fn hinge_side(
     };
     points
         .into_iter()
-        .filter(|p| (p - origin).dot(&u) >= -HINGE_MARGIN)
+        .filter(|p| (p - origin).dot(&u) >= 0.0)
         .collect()
 }
 
