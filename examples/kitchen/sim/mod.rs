@@ -314,6 +314,13 @@ impl SimWorld {
         Ok(())
     }
 
+    /// The largest distance (m) between where the physics engine holds a part collider and
+    /// where its body puts it (0 when the colliders follow their bodies; tests).
+    #[cfg(test)]
+    pub fn collider_lag(&self) -> f64 {
+        self.physics.collider_lag()
+    }
+
     /// Simulated execution time so far.
     pub fn clock(&self) -> Clock {
         self.clock

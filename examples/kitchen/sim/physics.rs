@@ -30,6 +30,7 @@ use kinscene::scene::Collider as SceneCollider;
 use kinscene::scene::{JointKind, Parent, SceneModel, Shape};
 use nalgebra::{Isometry3, Point3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use rapier3d_f64::math::{Pose, Rotation, Vector};
+use rapier3d_f64::parry::query::contact;
 use rapier3d_f64::parry::shape::{Ball, Capsule, Cuboid, Cylinder, SharedShape};
 use rapier3d_f64::prelude::{
     ActiveHooks, ColliderBuilder, ColliderHandle, GenericJointBuilder, ImpulseJointHandle,
@@ -497,9 +498,22 @@ impl Physics {
             }
         }
         for p in &self.parts {
-            if let Some(rb) = self.world.bodies.get_mut(p.body) {
-                rb.set_linvel(Vector::ZERO, true);
-                rb.set_angvel(Vector::ZERO, true);
+            let Some(rb) = self.world.bodies.get_mut(p.body) else {
+                continue;
+            };
+            rb.set_linvel(Vector::ZERO, true);
+            rb.set_angvel(Vector::ZERO, true);
+            // The multibody moved the body without flagging its colliders: a sleeping part's
+            // colliders stayed where they were, and the next step's narrow phase found
+            // contacts at the old place (a drawer teleported shut still "stood out" 16 cm
+            // and kicked a door). Place them and flag them modified.
+            let world_from_body = *rb.position();
+            for &c in &p.colliders {
+                if let Some(co) = self.world.colliders.get_mut(c) {
+                    if let Some(local) = co.position_wrt_parent().copied() {
+                        co.set_position(world_from_body * local);
+                    }
+                }
             }
         }
     }
@@ -623,10 +637,10 @@ impl Physics {
                     if matches!(owner, Owner::Part(o) if moving.contains(&o)) {
                         continue;
                     }
-                    let depth = pair
-                        .find_deepest_contact()
-                        .map(|(_, contact)| -contact.dist)
-                        .unwrap_or(0.0);
+                    // A manifold's depth may be stale (rapier recycles a pair's contacts while
+                    // its relative pose drifts less than 5 cm), so the depth is parry's exact
+                    // contact query at the colliders' poses now.
+                    let depth = self.exact_depth(c, other);
                     let force = pair.total_impulse_magnitude() / DT;
                     if depth > PENETRATION || force > CONTACT_FORCE {
                         return Some(Hit {
@@ -641,5 +655,36 @@ impl Physics {
             }
         }
         None
+    }
+
+    /// The largest distance (m) between a part collider's pose as the engine holds it (the
+    /// narrow phase's) and its body's pose times its offset (tests).
+    #[cfg(test)]
+    pub(super) fn collider_lag(&self) -> f64 {
+        let mut worst: f64 = 0.0;
+        for p in &self.parts {
+            for &c in &p.colliders {
+                let (Some(co), Some(from_body)) =
+                    (self.world.colliders.get(c), self.collider_pose(c))
+                else {
+                    continue;
+                };
+                worst = worst.max((co.position().translation - from_body.translation).length());
+            }
+        }
+        worst
+    }
+
+    /// Penetration depth (m, 0 if apart) of colliders `a` and `b` at their poses now (parry's
+    /// exact contact query).
+    fn exact_depth(&self, a: ColliderHandle, b: ColliderHandle) -> f64 {
+        let (Some(ca), Some(cb)) = (self.world.colliders.get(a), self.world.colliders.get(b))
+        else {
+            return 0.0;
+        };
+        contact(ca.position(), ca.shape(), cb.position(), cb.shape(), 0.0)
+            .ok()
+            .flatten()
+            .map_or(0.0, |c| (-c.dist).max(0.0))
     }
 }
