@@ -10,10 +10,12 @@ use super::fusion::MappedHandle;
 use super::interface::Robot;
 use super::log::{HandleLog, Outcome, Stage};
 use super::placement::FreeSpace;
+use super::reconcile::{CUTS, Observation, Reconciliation, reconcile};
 use super::run::Run;
 use super::settings::DiscoverySettings;
 use crate::kinematics::articulation::ArticulationEstimator;
-use crate::scene::{BaseMap, SceneModel, SceneModelBuilder, State};
+use crate::scene::collision::SweepSettings;
+use crate::scene::{BaseMap, PartId, SceneModel, SceneModelBuilder, State};
 
 /// The result of [`discover`]: the scene model M, the state the scene was left in, and what
 /// happened to every handle.
@@ -26,6 +28,9 @@ pub struct Discovery {
     pub state: State,
     /// One entry per input handle, in input order.
     pub log: Vec<HandleLog>,
+    /// How the registered boxes were cut back to agree with what the robot saw (the closed
+    /// scene, each executed opening), and what could not be made to agree.
+    pub reconciliation: Reconciliation,
 }
 
 /// Algorithm 1: explores every handle physically and builds the scene-level articulation
@@ -91,7 +96,10 @@ pub struct Discovery {
 ///    retries add motion instead of restarting it — the listing overwrites `o_pre` per
 ///    attempt, but only the closed pose can be registered as the joint's zero), `o_post`,
 ///    the first grasp contact, the last contact, and every end-effector pose recorded while
-///    grasping. An `Unknown` estimate is a [`Stage::Estimation`] failure.
+///    grasping. An `Unknown` estimate is a [`Stage::Estimation`] failure, and so is a revolute
+///    axis that contradicts the rotation the exploration measured: more than 45° from
+///    horizontal for a front seen turning about a horizontal axis, or less than 45° for one
+///    seen turning left or right (the last attempt that saw a rotation decides).
 /// 7. **Register**: the joint from the estimate, oriented so that the observed opening is
 ///    positive — revolute: the axis through the foot of the perpendicular from the contact
 ///    onto the estimated axis; prismatic: the axis through the contact. Its frame is aligned
@@ -118,6 +126,14 @@ pub struct Discovery {
 ///    map. Parts are named `part{i}` after the handle's input index, joints
 ///    `part{i}_hinge` / `part{i}_slide`, handles `part{i}_handle`. A model the scene builder
 ///    rejects is a [`Stage::Estimation`] failure.
+/// 8. **Reconcile** ([`reconcile`], with `sweep`): what the robot saw was collision-free — the
+///    closed scene (the mapping), and each opening it executed (from 0 to the part's value,
+///    the parts explored before at the openings they were left at, the others closed) — so
+///    the model with the new part is cut back, one box face at a time, until those are
+///    collision-free in it, cutting the new part's faces first (the parts before it already
+///    agreed). A conflict no cut resolves is kept and recorded in
+///    [`Discovery::reconciliation`] (the part stays: dropping it would hide an obstacle from
+///    the motion planner). Cuts and conflicts are noted in the handle's log.
 ///
 /// The navigation grid includes the parts registered so far at their current opening, so
 /// later base poses avoid the doors left open. A mapped handle within `nest_margin` of a
@@ -165,6 +181,9 @@ pub fn discover(
     };
     // Where the handles are expected now: handles on an explored part move with it.
     let mut pending: Vec<MappedHandle> = handles.to_vec();
+    // Each executed opening: the other joints' values then, the joint, its opening.
+    let mut openings: Vec<Opening> = Vec::new();
+    let mut reconciliation = Reconciliation::default();
     for index in 0..pending.len() {
         let h = pending[index].clone();
         let state = state_of(&model, &values)?;
@@ -176,7 +195,42 @@ pub fn discover(
             builder.parts.push(part.spec.clone());
             match builder.build() {
                 Ok(m) => {
-                    model = m;
+                    let mut tried = openings.clone();
+                    tried.push((values.clone(), joint.clone(), part.value));
+                    let newest = m.part_id(&name).ok();
+                    let (cut, rec) = reconciled(&m, &tried, &settings.sweep, newest)?;
+                    let what = |k: usize| match k {
+                        0 => "the closed scene the mapping saw".to_string(),
+                        k => format!("the opening of {} it executed", tried[k - 1].1),
+                    };
+                    for c in &rec.cuts {
+                        entry.notes.push(format!(
+                            "box {} of {} cut back by {} m on its {}{} face, clear of {} \
+                                 in {}",
+                            c.collider,
+                            c.part,
+                            c.depth,
+                            if c.side > 0.0 { "+" } else { "-" },
+                            ["x", "y", "z"][c.axis],
+                            c.other,
+                            what(c.observation)
+                        ));
+                    }
+                    reconciliation.cuts.extend(rec.cuts);
+                    for c in &rec.unresolved {
+                        entry.notes.push(format!(
+                            "{} and {} still collide in {} with the boxes cut back by up \
+                                 to {} m (kept: the estimate is off there)",
+                            c.a,
+                            c.b,
+                            what(c.observation),
+                            CUTS[CUTS.len() - 1]
+                        ));
+                    }
+                    reconciliation.unresolved.extend(rec.unresolved);
+                    model = cut;
+                    builder = model.to_builder();
+                    openings = tried;
                     values.insert(joint, part.value);
                     for later in &mut pending[index + 1..] {
                         if part.carries(&later.position, settings.nest_margin) {
@@ -203,7 +257,35 @@ pub fn discover(
         log.push(entry);
     }
     let state = state_of(&model, &values)?;
-    Ok(Discovery { model, state, log })
+    Ok(Discovery {
+        model,
+        state,
+        log,
+        reconciliation,
+    })
+}
+
+/// An executed opening: the other joints' values then, the joint's name, its opening.
+type Opening = (BTreeMap<String, f64>, String, f64);
+
+/// `model` reconciled with the closed scene (the mapping saw it) and every opening in
+/// `openings` (each executed without a collision), in that order.
+fn reconciled(
+    model: &SceneModel,
+    openings: &[Opening],
+    sweep: &SweepSettings,
+    newest: Option<PartId>,
+) -> Result<(SceneModel, Reconciliation), DiscoveryError> {
+    let mut observations = vec![Observation::State(model.zero_state())];
+    for (before, joint, value) in openings {
+        observations.push(Observation::Motion {
+            state: state_of(model, before)?,
+            joint: model.joint_id(joint)?,
+            from: 0.0,
+            to: *value,
+        });
+    }
+    reconcile(model, &observations, sweep, newest)
 }
 
 /// Moves a mapped handle (position, attachment point and normal) by `motion`.

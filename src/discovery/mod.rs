@@ -77,6 +77,7 @@ mod interface;
 mod log;
 mod part;
 mod placement;
+mod reconcile;
 mod registration;
 mod run;
 mod settings;
@@ -90,6 +91,7 @@ pub use interface::{
     SensorFailure, Split,
 };
 pub use log::{AttemptEnd, AttemptLog, EstimateLog, HandleLog, MotionClass, Outcome, Stage};
+pub use reconcile::{BoxCut, CUTS, Conflict, Observation, Reconciliation, reconcile};
 pub use registration::{
     Attachment, Registration, RegistrationSettings, Rejection, register_handles,
 };

@@ -4,6 +4,7 @@ use serde::{Deserialize, Serialize};
 
 use super::error::{DiscoveryError, check_nonneg, check_positive, check_range};
 use super::interface::Camera;
+use crate::scene::collision::SweepSettings;
 
 /// Settings of [`discover`](super::discover). SI units; defaults are for a Stretch/Gen3-sized
 /// mobile manipulator in a kitchen.
@@ -116,6 +117,12 @@ pub struct DiscoverySettings {
     /// Smallest half extent (m) of a part's box (a front seen from one side is flat).
     /// Default 0.01.
     pub min_half_extent: f64,
+    /// The sweep check that reconciles the model with what the robot saw (the closed scene
+    /// and each executed opening must be collision-free in it; see
+    /// [`reconcile`](super::reconcile)). Give it the planner's
+    /// ([`TaskSettings::sweep`](crate::task::TaskSettings::sweep)) so that what discovery
+    /// certifies, planning does too. Default [`SweepSettings::default`].
+    pub sweep: SweepSettings,
 }
 
 impl Default for DiscoverySettings {
@@ -153,6 +160,7 @@ impl Default for DiscoverySettings {
             base_clearance: 0.01,
             handle_standoff: 0.01,
             min_half_extent: 0.01,
+            sweep: SweepSettings::default(),
         }
     }
 }
@@ -161,7 +169,8 @@ impl DiscoverySettings {
     /// Checks every field.
     ///
     /// # Errors
-    /// [`DiscoveryError::InvalidSetting`] naming the first invalid field: lengths and counts
+    /// [`DiscoveryError::InvalidSetting`] naming the first invalid field (or
+    /// [`DiscoveryError::Scene`] for invalid `sweep` settings): lengths and counts
     /// must be positive (distances that may be zero: `post_step_back`, `base_search_radius`,
     /// `nest_margin`, `base_clearance`, `handle_standoff`), weights and quantiles in range, `displacement_cap >
     /// displacement_threshold`.
@@ -226,6 +235,7 @@ impl DiscoverySettings {
                 });
             }
         }
+        self.sweep.validate()?;
         Ok(())
     }
 }

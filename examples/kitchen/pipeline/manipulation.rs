@@ -5,9 +5,11 @@
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 
+use kinscene::discovery::{Observation, reconcile};
 use kinscene::planner::{
     HierarchicalPlanner, MotionDocument, MotionOutcome, MotionPlan, PlannerResult, RefineOutcome,
 };
+use kinscene::scene::collision::SweepSettings;
 use kinscene::scene::{JointKind, SceneModel, State};
 use kinscene::task::{
     self, Cause, Infeasibility, NoRefinement, Outcome, Problem, SearchStats, Strategy,
@@ -219,13 +221,19 @@ pub fn translate(
     let model = builder
         .build()
         .map_err(|e| format!("the estimated model with widened limits is invalid: {e}"))?;
-    let spec = goal_spec(est_goal, est_start, goal.base);
-    let problem = Problem::from_spec(&model, &spec)
-        .map_err(|e| format!("the goal does not fit the estimated model: {e}"))?;
     // The robot sees the start state, so it is collision-free: boxes overlapping there (a
-    // door wide open next to closed drawers) are cut back, as at the closed state.
-    let (model, _) = super::tidy::separate_boxes_at(&model, &problem.start)
-        .map_err(|e| format!("cutting back the boxes at the start state: {e}"))?;
+    // door wide open next to closed drawers) are cut back, as discovery did for the closed
+    // scene and each opening it executed.
+    let start = State::from_values_clamped(&model, est_start.iter().map(|(n, v)| (n.as_str(), *v)))
+        .map_err(|e| format!("the start does not fit the estimated model: {e}"))?;
+    let (model, _) = reconcile(
+        &model,
+        &[Observation::State(start)],
+        &SweepSettings::default(),
+        None,
+    )
+    .map_err(|e| format!("cutting back the boxes at the start state: {e}"))?;
+    let spec = goal_spec(est_goal, est_start, goal.base);
     let problem = Problem::from_spec(&model, &spec)
         .map_err(|e| format!("the goal does not fit the estimated model: {e}"))?;
     let names = matches

@@ -404,10 +404,11 @@ impl Report {
              **Random**: one random order of the goal joints (the paper's baseline) on the \
              estimated model; an order the task layer rejects fails with the failure it \
              predicts, an accepted one is refined (`HierarchicalPlanner::refine`) and \
-             executed. **Oracle**: the planner on the true model. Before planning, \
-             estimated part boxes that overlap at the closed state (depth noise makes them a \
-             little too large, and adjacent fronts are 3–6 mm apart) are cut back, one face \
-             at a time. Success: the \
+             executed. **Oracle**: the planner on the true model. The estimated boxes were \
+             cut back by the discovery stage wherever they collided in what the robot saw \
+             (the closed scene, each opening it executed; depth noise makes boxes a little \
+             too large, and adjacent fronts are 3–6 mm apart), and again at each sequence's \
+             start state, one face at a time. Success: the \
              simulator's true state meets every target (within {:.2} rad / {:.0} mm).\n",
             REVOLUTE_TOLERANCE,
             PRISMATIC_TOLERANCE * 1e3
@@ -768,8 +769,8 @@ impl Report {
             let _ = writeln!(
                 s,
                 "## Digital twin\n\nThe estimated scene of run {} ({} joints) as URDF, \
-                 `twin.urdf`, with the part boxes that overlapped at the closed state cut \
-                 back, as the planner used it: {back}.\n",
+                 `twin.urdf`, with the part boxes cut back to agree with what the robot saw, \
+                 as the planner used it: {back}.\n",
                 t.run, t.joints
             );
         }

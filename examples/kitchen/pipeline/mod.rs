@@ -29,7 +29,6 @@ mod sequences;
 mod session;
 mod stages;
 mod summary;
-mod tidy;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;

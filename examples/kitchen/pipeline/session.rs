@@ -19,7 +19,7 @@ use super::sequences::{START_BASE, Sequence};
 use super::sim::{self, SimSettings, SimWorld};
 use super::stages::{self, pose};
 use super::summary::{DiscoveryRun, Report, RunReport, Table2Row, TwinSummary};
-use super::{PipelineError, experiments, fig5, tidy};
+use super::{PipelineError, experiments, fig5};
 
 /// The simulator's settings for run seed `seed`.
 pub fn sim_settings(config: &Config, seed: u64) -> SimSettings {
@@ -166,11 +166,18 @@ impl Session<'_> {
 
         // Stage 2: discovery.
         let (discovery, main) = self.discover(r, &mut world, &handles, config.estimator)?;
-        let (est, overlaps) = tidy::separate_boxes(&discovery.model)?;
-        for (a, b) in &overlaps {
+        let est = discovery.model.clone();
+        for c in &discovery.reconciliation.unresolved {
             self.report.notes.push(format!(
-                "run {r}: in the estimated model {a} and {b} overlap at the closed state even \
-                 with the boxes cut back"
+                "run {r}: in the estimated model {} and {} still collide where the robot saw \
+                 none ({}) even with the boxes cut back",
+                c.a,
+                c.b,
+                if c.observation == 0 {
+                    "the closed scene".to_string()
+                } else {
+                    format!("opening number {}", c.observation)
+                }
             ));
         }
         let matches = main.matches.clone();
