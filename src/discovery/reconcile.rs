@@ -371,6 +371,33 @@ mod tests {
     use super::*;
     use crate::scene::{Joint, JointKind, Limits, PartSpec, SceneModelBuilder};
 
+    /// Adds a part on the base with one box (half extents `half`, centre `centre` in the part
+    /// frame) on a joint at the origin: revolute limits [0, 1.5], prismatic [0, 0.4].
+    fn add_box_part(
+        b: &mut SceneModelBuilder,
+        name: &str,
+        kind: JointKind,
+        axis: Vector3<f64>,
+        half: Vector3<f64>,
+        centre: Vector3<f64>,
+    ) {
+        let (suffix, upper) = match kind {
+            JointKind::Revolute => ("hinge", 1.5),
+            JointKind::Prismatic => ("slide", 0.4),
+        };
+        let joint = Joint::new(
+            format!("{name}_{suffix}"),
+            kind,
+            Isometry3::identity(),
+            axis,
+            Limits::new(0.0, upper),
+        );
+        b.add_part(PartSpec::on_base(name, joint).with_collider(
+            Shape::cuboid(half),
+            Isometry3::translation(centre.x, centre.y, centre.z),
+        ));
+    }
+
     /// The world x range of part `k`'s first box, and its y, z half extents.
     fn range(m: &SceneModel, k: usize) -> ([f64; 2], [f64; 2]) {
         let c = &m.parts()[k].colliders()[0];
@@ -392,17 +419,14 @@ mod tests {
     fn overlapping_fronts_are_cut_on_one_face() {
         let mut b = SceneModelBuilder::new();
         for (name, lo, hi) in [("left", 0.0, 0.50), ("right", 0.488, 0.79)] {
-            let joint = Joint::new(
-                format!("{name}_slide"),
+            add_box_part(
+                &mut b,
+                name,
                 JointKind::Prismatic,
-                Isometry3::identity(),
                 -Vector3::y(),
-                Limits::new(0.0, 0.4),
+                Vector3::new((hi - lo) / 2.0, 0.01, 0.2),
+                Vector3::new((lo + hi) / 2.0, 0.01, 0.5),
             );
-            b.add_part(PartSpec::on_base(name, joint).with_collider(
-                Shape::cuboid(Vector3::new((hi - lo) / 2.0, 0.01, 0.2)),
-                Isometry3::translation((lo + hi) / 2.0, 0.01, 0.5),
-            ));
         }
         let est = b.build().unwrap();
         let closed = Observation::State(est.zero_state());
@@ -439,28 +463,22 @@ mod tests {
     #[test]
     fn observed_door_motion_is_made_free() {
         let mut b = SceneModelBuilder::new();
-        let hinge = Joint::new(
-            "door_hinge",
+        add_box_part(
+            &mut b,
+            "door",
             JointKind::Revolute,
-            Isometry3::identity(),
             -Vector3::z(),
-            Limits::new(0.0, 1.5),
+            Vector3::new(0.255, 0.01, 0.3),
+            Vector3::new(0.245, -0.01, 0.3),
         );
-        b.add_part(PartSpec::on_base("door", hinge).with_collider(
-            Shape::cuboid(Vector3::new(0.255, 0.01, 0.3)),
-            Isometry3::translation(0.245, -0.01, 0.3),
-        ));
-        let slide = Joint::new(
-            "drawer_slide",
+        add_box_part(
+            &mut b,
+            "drawer",
             JointKind::Prismatic,
-            Isometry3::identity(),
             -Vector3::y(),
-            Limits::new(0.0, 0.4),
+            Vector3::new(0.199, 0.01, 0.3),
+            Vector3::new(-0.211, -0.01, 0.3),
         );
-        b.add_part(PartSpec::on_base("drawer", slide).with_collider(
-            Shape::cuboid(Vector3::new(0.199, 0.01, 0.3)),
-            Isometry3::translation(-0.211, -0.01, 0.3),
-        ));
         let est = b.build().unwrap();
         let door = est.joint_id("door_hinge").unwrap();
         let observations = [
