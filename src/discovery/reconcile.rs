@@ -9,11 +9,13 @@
 //!
 //! What the robot saw is evidence: a state it saw, and a single-joint motion it executed, were
 //! collision-free. [`reconcile`] makes the model agree with each [`Observation`] by moving box
-//! faces inward, one face per conflict: among the faces of the two bodies in conflict (a part's
-//! only, for a part–base conflict), the one whose smallest separating cut (of [`CUTS`])
-//! removes the least volume. The other faces keep their extent, so a box is never shrunk on a
-//! side where nothing conflicts (shrinking every side took 2 cm off the kitchen's dishwasher
-//! door next to the sink door's handle, and the real arm then touched the real door).
+//! faces inward, conflict by conflict: the faces of the newest part first (when it is in the
+//! conflict; the parts before it already agreed), else of either body (a part's only, for a
+//! part–base conflict), the cut (of [`CUTS`]) that resolves it removing the least volume — one
+//! face, or in a state two faces of one box. The other faces keep their extent, so a box is
+//! never shrunk on a side where nothing conflicts (shrinking every side took 2 cm off the
+//! kitchen's dishwasher door next to the sink door's handle, and the real arm then touched
+//! the real door).
 //!
 //! Cuts only shrink boxes, so an observation made consistent stays consistent while later
 //! ones are reconciled. A conflict that no cut of at most the largest of [`CUTS`] resolves
