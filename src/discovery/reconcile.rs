@@ -10,8 +10,8 @@
 //! What the robot saw is evidence: a state it saw, and a single-joint motion it executed, were
 //! collision-free. [`reconcile`] makes the model agree with each [`Observation`] by moving box
 //! faces inward, conflict by conflict: the faces of the newest part first (when it is in the
-//! conflict; the parts before it already agreed), else of either body (a part's only, for a
-//! part–base conflict), the cut (of [`CUTS`]) that resolves it removing the least volume — one
+//! conflict; the parts before it already agreed), else of the other body (a part's only, for
+//! a part–base conflict), the cut (of [`CUTS`]) that resolves it removing the least volume — one
 //! face, or in a state two faces of one box. The other faces keep their extent, so a box is
 //! never shrunk on a side where nothing conflicts (shrinking every side took 2 cm off the
 //! kitchen's dishwasher door next to the sink door's handle, and the real arm then touched
@@ -29,6 +29,7 @@ use crate::scene::collision::{
     Body, SweepSettings, SweepStatus, check_joint_motion, collisions, collisions_of,
 };
 use crate::scene::{JointId, PartId, SceneData, SceneModel, Shape, State, forward_kinematics};
+use crate::task::BodyName;
 
 /// Face cuts tried (m), smallest first.
 pub const CUTS: [f64; 8] = [0.003, 0.006, 0.01, 0.015, 0.02, 0.03, 0.05, 0.08];
@@ -69,8 +70,8 @@ pub struct BoxCut {
     pub side: f64,
     /// How far the face moved in (m).
     pub depth: f64,
-    /// The body the cut separates it from (part name or base shape name).
-    pub other: String,
+    /// The body the cut separates it from.
+    pub other: BodyName,
     /// Index of the observation that required it.
     pub observation: usize,
 }
@@ -80,10 +81,10 @@ pub struct BoxCut {
 pub struct Conflict {
     /// Index of the observation.
     pub observation: usize,
-    /// One body (a part's name).
-    pub a: String,
-    /// The other body (part or base shape name).
-    pub b: String,
+    /// One body (a part).
+    pub a: BodyName,
+    /// The other body.
+    pub b: BodyName,
 }
 
 /// What [`reconcile`] changed and what it could not resolve.
@@ -104,7 +105,7 @@ pub struct Reconciliation {
 ///
 /// `newest` is the part to cut first: the one just registered, when the others already agreed
 /// with what the robot saw (their boxes then stay as they were whenever cutting the newest
-/// one resolves the conflict; otherwise the least-volume cut of either body is taken).
+/// one resolves the conflict; otherwise the other body's least-volume cut is taken).
 ///
 /// # Errors
 /// [`DiscoveryError::Scene`] if the settings are invalid, an observation's state does not fit
@@ -126,26 +127,34 @@ pub fn reconcile(
             let Some((a, b)) = offender(&model, &observation, sweep, &stuck)? else {
                 break;
             };
-            let first = newest
-                .filter(|n| Body::Part(*n) == a || Body::Part(*n) == b)
-                .map(|n| best_cut(&model, &observation, sweep, a, b, Some(n)))
-                .transpose()?
-                .flatten();
-            let cut = match first {
+            // The newest part's faces first; if none of its cuts resolves the conflict, the
+            // other body's (never the newest's candidates twice).
+            let parts: Vec<PartId> = [a, b]
+                .into_iter()
+                .filter_map(|body| match body {
+                    Body::Part(p) => Some(p),
+                    Body::Base(_) => None,
+                })
+                .collect();
+            let (first, rest): (Vec<PartId>, Vec<PartId>) =
+                parts.into_iter().partition(|p| Some(*p) == newest);
+            let cut = match best_cut(&model, &observation, sweep, a, b, &first)? {
                 Some(c) => Some(c),
-                None => best_cut(&model, &observation, sweep, a, b, None)?,
+                None => best_cut(&model, &observation, sweep, a, b, &rest)?,
             };
             match cut {
                 Some((cuts, cut_model)) => {
                     for cut in cuts {
                         let other = if Body::Part(cut.part) == a { b } else { a };
                         out.cuts.push(BoxCut {
-                            part: body_name(&model, Body::Part(cut.part)),
+                            part: model
+                                .part(cut.part)
+                                .map_or_else(String::new, |p| p.name().to_string()),
                             collider: cut.collider,
                             axis: cut.axis,
                             side: cut.side,
                             depth: cut.depth,
-                            other: body_name(&model, other),
+                            other: BodyName::of(&model, other),
                             observation: index,
                         });
                     }
@@ -157,8 +166,8 @@ pub fn reconcile(
         out.unresolved
             .extend(stuck.into_iter().map(|(a, b)| Conflict {
                 observation: index,
-                a: body_name(&model, a),
-                b: body_name(&model, b),
+                a: BodyName::of(&model, a),
+                b: BodyName::of(&model, b),
             }));
     }
     Ok((model, out))
@@ -186,18 +195,6 @@ fn clamped(model: &SceneModel, observation: &Observation) -> Observation {
             }
         }
         other => other.clone(),
-    }
-}
-
-/// A part or base shape's name.
-fn body_name(model: &SceneModel, body: Body) -> String {
-    match body {
-        Body::Part(p) => model
-            .part(p)
-            .map_or_else(|| "a part".to_string(), |p| p.name().to_string()),
-        Body::Base(s) => model
-            .base_shape(s)
-            .map_or_else(|| "the base".to_string(), |s| s.name.clone()),
     }
 }
 
@@ -251,7 +248,7 @@ fn still_conflicting(
     b: Body,
 ) -> Result<bool, DiscoveryError> {
     if let (Observation::State(state), Body::Part(p)) = (observation, a) {
-        // Only the cut part's pairs can have changed: check those.
+        // The pair is one of `a`'s: checking `a`'s pairs is enough.
         let mut data = SceneData::new(model);
         forward_kinematics(model, &mut data, state)?;
         let contacts = collisions_of(model, &data, &sweep.collision, p)?;
@@ -302,7 +299,7 @@ fn apply(model: &SceneModel, cuts: &[Cut]) -> Result<Option<SceneModel>, Discove
 }
 
 /// The cuts of least volume that resolve the conflict of `(a, b)` in `observation`, with the
-/// cut model: faces of `only` if given, else of either body. One face; in a
+/// cut model, among the faces of `parts` (the conflict's parts, or some of them). One face; in a
 /// [`Observation::State`] also two faces of the same box (a box tilted into a corner of a
 /// carcass overlaps it on two sides), which a sweep is too costly to try.
 fn best_cut(
@@ -311,16 +308,12 @@ fn best_cut(
     sweep: &SweepSettings,
     a: Body,
     b: Body,
-    only: Option<PartId>,
+    parts: &[PartId],
 ) -> Result<Option<(Vec<Cut>, SceneModel)>, DiscoveryError> {
     // Every candidate with the volume it removes (face area times depth), tried cheapest
     // first: the first that resolves the conflict is the least-volume one.
     let mut candidates: Vec<(f64, Vec<Cut>)> = Vec::new();
-    for me in [a, b] {
-        let Body::Part(p) = me else { continue };
-        if only.is_some_and(|o| o != p) {
-            continue;
-        }
+    for &p in parts {
         let Some(part) = model.part(p) else { continue };
         for (i, collider) in part.colliders().iter().enumerate() {
             let Shape::Cuboid { half_extents: h } = &collider.shape else {

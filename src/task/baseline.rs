@@ -154,13 +154,6 @@ fn joint_name(model: &SceneModel, joint: JointId) -> String {
     model.joints()[joint.index()].name.clone()
 }
 
-fn body_name(model: &SceneModel, body: Body) -> BodyName {
-    match body {
-        Body::Part(p) => BodyName::Part(model.parts()[p.index()].name().into()),
-        Body::Base(b) => BodyName::Base(model.base().shapes[b.index()].name.clone()),
-    }
-}
-
 fn start_collisions(
     model: &SceneModel,
     problem: &Problem,
@@ -170,7 +163,7 @@ fn start_collisions(
     forward_kinematics(model, &mut data, &problem.start)?;
     Ok(collisions(model, &data, &settings.sweep.collision)?
         .into_iter()
-        .map(|c| (body_name(model, c.a), body_name(model, c.b)))
+        .map(|c| (BodyName::of(model, c.a), BodyName::of(model, c.b)))
         .collect())
 }
 
@@ -464,8 +457,8 @@ impl<'a> BoxTest<'a> {
                             from: self.parts[g].sweep[0].0,
                             to: m.to,
                             cause: Cause::Collision {
-                                moving: body_name(self.model, Body::Part(*p)),
-                                other: body_name(self.model, Body::Part(*other)),
+                                moving: BodyName::of(self.model, Body::Part(*p)),
+                                other: BodyName::of(self.model, Body::Part(*other)),
                                 value: *value,
                             },
                         });

@@ -397,10 +397,7 @@ impl<'a> Checker<'a> {
     }
 
     pub fn body_name(&self, b: Body) -> BodyName {
-        match b {
-            Body::Part(p) => BodyName::Part(self.model.parts()[p.index()].name().into()),
-            Body::Base(s) => BodyName::Base(self.model.base().shapes[s.index()].name.clone()),
-        }
+        BodyName::of(self.model, b)
     }
 
     /// Occupancy of a state, with every part (`all`) or only the parts `include` accepts.

@@ -121,10 +121,7 @@ pub(crate) fn static_conflict(
         if !always {
             continue;
         }
-        let name = |b: Body| match b {
-            Body::Part(p) => BodyName::Part(model.parts()[p.index()].name().into()),
-            Body::Base(s) => BodyName::Base(model.base().shapes[s.index()].name.clone()),
-        };
+        let name = |b: Body| BodyName::of(model, b);
         let (a, b) = (name(contact.a), name(contact.b));
         let goal_names: Vec<String> = joints
             .iter()

@@ -24,6 +24,8 @@ use std::time::Duration;
 use serde::{Deserialize, Serialize};
 
 use super::Error;
+use crate::scene::SceneModel;
+use crate::scene::collision::Body;
 
 /// One single-joint change θ_i of a plan Π.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -65,6 +67,16 @@ pub enum BodyName {
     Part(String),
     /// A static shape of the base map.
     Base(String),
+}
+
+impl BodyName {
+    /// The name of `body` in `model` (its id must be one of `model`'s).
+    pub fn of(model: &SceneModel, body: Body) -> BodyName {
+        match body {
+            Body::Part(p) => BodyName::Part(model.parts()[p.index()].name().into()),
+            Body::Base(s) => BodyName::Base(model.base().shapes[s.index()].name.clone()),
+        }
+    }
 }
 
 impl std::fmt::Display for BodyName {
