@@ -63,6 +63,10 @@ struct Args {
     /// The discovery stage's articulation estimator: two-view or proprioceptive.
     #[arg(long, default_value = "two-view")]
     estimator: String,
+    /// The discovery stage's gravity prior (degrees): an estimated axis within this angle of
+    /// horizontal or vertical is registered level (0: off).
+    #[arg(long, default_value_t = 10.0)]
+    axis_snap: f64,
     /// Budget of each planner call (s).
     #[arg(long, default_value_t = 60.0)]
     budget: f64,
@@ -125,6 +129,10 @@ fn config(args: &Args) -> Result<Config, pipeline::PipelineError> {
             ExploreScope::Needed
         } else {
             ExploreScope::All
+        },
+        discovery: kinscene::discovery::DiscoverySettings {
+            axis_snap: args.axis_snap.to_radians(),
+            ..base.discovery
         },
         ..base
     })

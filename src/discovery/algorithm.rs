@@ -102,7 +102,10 @@ pub struct Discovery {
 ///    seen turning left or right (the last attempt that saw a rotation decides).
 /// 7. **Register**: the joint from the estimate, oriented so that the observed opening is
 ///    positive — revolute: the axis through the foot of the perpendicular from the contact
-///    onto the estimated axis; prismatic: the axis through the contact. Its frame is aligned
+///    onto the estimated axis; prismatic: the axis through the contact. An axis within
+///    `axis_snap` of horizontal is projected onto the horizontal plane, one within it of
+///    vertical made vertical (the gravity prior: furniture joints are built level; noted in
+///    the log, which keeps the estimator's own axis). Its frame is aligned
 ///    with the map frame at discovery time, so the part frame at value 0 is the closed pose
 ///    observed before the interaction. Limits `[0, max(observed, default upper)]`
 ///    (`default_revolute_upper`, `default_prismatic_upper`). Box colliders around the

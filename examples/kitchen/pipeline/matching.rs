@@ -1,9 +1,12 @@
 //! Matching the estimated model's parts to the true parts (by handle position at the zero
 //! state) and the articulation errors of each match (DiTH metrics, paper Table II).
 
+#[cfg(doc)]
+use kinscene::discovery::DiscoverySettings;
+use kinscene::discovery::{Discovery, Outcome};
 use kinscene::kinematics::articulation::{axis_angle_error, axis_position_error};
 use kinscene::scene::{
-    JointKind, SceneData, SceneModel, forward_kinematics, joint_axis, world_from_handle,
+    JointKind, Parent, SceneData, SceneModel, forward_kinematics, joint_axis, world_from_handle,
 };
 use nalgebra::{Point3, Vector3};
 use serde::Serialize;
@@ -75,11 +78,15 @@ pub struct Match {
     pub est_kind: JointKind,
     /// Distance (m) between the two handles at the zero states.
     pub handle_distance: f64,
-    /// Axis angle error (degrees, DiTH: the sign of the axis does not matter).
+    /// Axis angle error (degrees, DiTH: the sign of the axis does not matter) of the
+    /// estimator's axis (the discovery log's estimate; see [`estimator_errors`]).
     pub angle_error: f64,
     /// Axis position error (m) for a revolute joint of the right type (the distance between
-    /// the axis lines), else `None`.
+    /// the axis lines), else `None`; of the estimator's axis, like `angle_error`.
     pub position_error: Option<f64>,
+    /// The angle error (degrees) of the registered joint: the estimate after discovery's
+    /// gravity prior ([`DiscoverySettings::axis_snap`]).
+    pub registered_angle_error: f64,
     /// Estimated upper limit (rad or m).
     pub est_upper: f64,
     /// Whether the estimated axis opens the part the same way as the true one (positive dot
@@ -121,12 +128,45 @@ pub fn match_parts(truth: &[PartAxis], est: &[PartAxis]) -> Vec<Match> {
             handle_distance: d,
             angle_error,
             position_error,
+            registered_angle_error: angle_error,
             est_upper: e.limits[1],
             same_sense: t.kind == e.kind && e.direction.dot(&t.direction) > 0.0,
         });
     }
     out.sort_by(|a, b| a.true_joint.cmp(&b.true_joint));
     out
+}
+
+/// Replaces the axis errors of `matches` (computed from the registered joints of `model`)
+/// by those of the estimator's own axes in the log of `d`, keeping the registered angle error
+/// in `registered_angle_error`: Table II measures the estimators, and registration levels
+/// nearly level axes ([`DiscoverySettings::axis_snap`]). The log's axes are in the map frame
+/// at exploration time, which is the zero state's for a part on the base; a part nested on
+/// another keeps its registered errors (its parent may have been open when it was explored).
+pub fn estimator_errors(matches: &mut [Match], truth: &[PartAxis], d: &Discovery) {
+    for m in matches {
+        let Some(t) = truth.iter().find(|t| t.joint == m.true_joint) else {
+            continue;
+        };
+        let on_base = d
+            .model
+            .joint_id(&m.est_joint)
+            .is_ok_and(|j| d.model.parts()[j.index()].parent() == Parent::Base);
+        let estimate = d.log.iter().find_map(|l| match &l.outcome {
+            Outcome::Registered { joint, .. } if *joint == m.est_joint => l.estimate.as_ref(),
+            _ => None,
+        });
+        let Some((axis, e)) = estimate.and_then(|e| Some((e.axis?, e))) else {
+            continue;
+        };
+        if !on_base {
+            continue;
+        }
+        m.angle_error = axis_angle_error(&axis, &t.direction);
+        if let (Some(_), Some(pivot)) = (m.position_error, e.pivot) {
+            m.position_error = Some(axis_position_error(&pivot, &axis, &t.pivot, &t.direction));
+        }
+    }
 }
 
 /// The index of the true part whose handle is nearest to `p`, within `radius`.

@@ -56,7 +56,8 @@ pub fn discovery_run(
     let d = discover(world, base, handles, est.as_ref(), settings)?;
     let c1 = world.clock();
     let est_parts = matching::part_axes(&d.model)?;
-    let matches = matching::match_parts(truth, &est_parts);
+    let mut matches = matching::match_parts(truth, &est_parts);
+    matching::estimator_errors(&mut matches, truth, &d);
     let row = DiscoveryRun {
         estimator: estimator.name().to_string(),
         handles: experiments::handle_rows(truth, handles, &d),
