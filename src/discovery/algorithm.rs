@@ -99,7 +99,10 @@ pub struct Discovery {
 ///    grasping. An `Unknown` estimate is a [`Stage::Estimation`] failure, and so is a revolute
 ///    axis that contradicts the rotation the exploration measured: more than 45° from
 ///    horizontal for a front seen turning about a horizontal axis, or less than 45° for one
-///    seen turning left or right (the last attempt that saw a rotation decides).
+///    seen turning left or right (the last attempt that saw a rotation decides). A revolute
+///    estimate that turned less than `rotation_threshold` while every attempt that moved the
+///    part saw it slide is registered as the slide along the chord its contact moved (a turn
+///    that small about an axis metres away is a translation; the log keeps the estimate).
 /// 7. **Register**: the joint from the estimate, oriented so that the observed opening is
 ///    positive — revolute: the axis through the foot of the perpendicular from the contact
 ///    onto the estimated axis; prismatic: the axis through the contact. An axis within

@@ -2,7 +2,7 @@
 
 use nalgebra::{Isometry3, Point3, Translation3, Unit, UnitQuaternion, Vector3};
 
-use super::cloud::{VoxelIndex, components, connected_to, oriented_box_along};
+use super::cloud::{OrientedBox, VoxelIndex, components, connected_to, oriented_box_along};
 use super::settings::DiscoverySettings;
 use super::shapes::PlacedShape;
 use crate::kinematics::articulation::{Estimate, JointEstimate, PointCloud};
@@ -241,18 +241,25 @@ pub(crate) fn new_part(
         }
         None => c,
     };
-    let mut boxed = false;
+    let mut boxes = Vec::new();
     let clouds = std::iter::once((&points, s.box_trim)).chain(protrusions.iter().map(|p| (p, 0.0)));
-    for (cloud, trim) in clouds {
+    for (k, (cloud, trim)) in clouds.enumerate() {
         if let Some(b) = oriented_box_along(cloud, &axis, Some(&normal), trim, s.min_half_extent) {
-            let world_from_box =
-                Isometry3::from_parts(Translation3::from(b.center.coords), b.rotation);
-            spec = spec.with_collider(
-                Shape::cuboid(b.half_extents),
-                part_from_world * world_from_box,
-            );
-            boxed = true;
+            if k == 0 && kind == JointKind::Prismatic && s.drawer_body {
+                let (body, note) = drawer_body(model, &b, &axis, upper);
+                boxes.extend(body);
+                notes.push(note);
+            }
+            boxes.push(b);
         }
+    }
+    let boxed = !boxes.is_empty();
+    for b in boxes {
+        let world_from_box = Isometry3::from_parts(Translation3::from(b.center.coords), b.rotation);
+        spec = spec.with_collider(
+            Shape::cuboid(b.half_extents),
+            part_from_world * world_from_box,
+        );
     }
     if !boxed {
         notes.push("no part geometry: registered without a collider".into());
@@ -276,6 +283,67 @@ pub(crate) fn new_part(
         notes,
         closed,
     })
+}
+
+/// Largest share of the front's half width and height a drawer body may lose to fit the base
+/// map's free space behind the front.
+const BODY_MAX_SHRINK: f64 = 0.4;
+
+/// Step (m) of the body's shrinking.
+const BODY_SHRINK_STEP: f64 = 0.005;
+
+/// The drawer body behind `front` (see [`DiscoverySettings::drawer_body`]), `depth` deep along
+/// `-axis` (the front box's third axis is the slide axis, pointing out of the cabinet): the
+/// front's cross-section, shrunk in [`BODY_SHRINK_STEP`]s on both sides until it is clear of
+/// every base shape at the closed pose (the cavity between the carcass panels), at most by
+/// [`BODY_MAX_SHRINK`]; `None` if it never is (a map that shows the carcass solid). With the
+/// note for the log.
+fn drawer_body(
+    model: &SceneModel,
+    front: &OrientedBox,
+    axis: &Vector3<f64>,
+    depth: f64,
+) -> (Option<OrientedBox>, String) {
+    let base: Vec<PlacedShape> = model
+        .base()
+        .shapes
+        .iter()
+        .filter_map(|b| PlacedShape::new(&b.shape, &b.world_from_shape))
+        .collect();
+    let h = front.half_extents;
+    let limit = BODY_MAX_SHRINK * h.x.min(h.y);
+    let mut shrink = 0.0;
+    while shrink <= limit {
+        let body = OrientedBox {
+            center: front.center - axis * (h.z + depth / 2.0),
+            rotation: front.rotation,
+            half_extents: Vector3::new(h.x - shrink, h.y - shrink, depth / 2.0),
+        };
+        let world_from_body =
+            Isometry3::from_parts(Translation3::from(body.center.coords), body.rotation);
+        let clear = PlacedShape::new(&Shape::cuboid(body.half_extents), &world_from_body)
+            .is_some_and(|placed| base.iter().all(|b| b.gap(&placed) > 0.0));
+        if clear {
+            return (
+                Some(body),
+                format!(
+                    "drawer body modelled behind the front, {depth:.2} m deep (its upper \
+                     limit), {:.0} mm narrower on each side than the front (clear of the base \
+                     map)",
+                    shrink * 1e3
+                ),
+            );
+        }
+        shrink += BODY_SHRINK_STEP;
+    }
+    (
+        None,
+        format!(
+            "no drawer body modelled: the base map leaves no room behind the front (checked \
+             {depth:.2} m deep, up to {:.0} mm narrower on each side)",
+            limit * 1e3
+        ),
+    )
 }
 
 /// The gravity prior of [`DiscoverySettings::axis_snap`]: `axis` (unit) projected onto the

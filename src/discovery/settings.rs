@@ -126,6 +126,14 @@ pub struct DiscoverySettings {
     /// the log ([`EstimateLog`](super::EstimateLog)) and the change is noted. Default 10°
     /// (0.1745 rad; the kitchen's two-view estimates are 2.7° off on average, 6.5° at most).
     pub axis_snap: f64,
+    /// Whether a prismatic part gets a second box behind its front: the drawer's body, which
+    /// the camera never sees (it is inside the cabinet until the drawer opens, and the
+    /// estimator's points are those of the closed pose), but which the arm can touch once the
+    /// drawer is open. It has the front's width and height and is as deep as the joint's
+    /// upper limit (a drawer is at least as deep as it slides out); reconciliation
+    /// ([`reconcile`](super::reconcile)) then cuts it back to the cavity the robot saw it
+    /// slide out of. Default true.
+    pub drawer_body: bool,
     /// The sweep check that reconciles the model with what the robot saw (the closed scene
     /// and each executed opening must be collision-free in it; see
     /// [`reconcile`](super::reconcile)). Give it the planner's
@@ -167,6 +175,7 @@ impl Default for DiscoverySettings {
             nest_margin: 0.05,
             box_trim: 0.01,
             axis_snap: 10f64.to_radians(),
+            drawer_body: true,
             base_clearance: 0.01,
             handle_standoff: 0.01,
             min_half_extent: 0.01,

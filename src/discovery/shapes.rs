@@ -5,7 +5,7 @@
 use nalgebra::{Isometry3, Point3};
 
 use crate::scene::Shape;
-use crate::scene::collision::geometry::CompiledShape;
+use crate::scene::collision::geometry::{CompiledShape, Placed};
 
 /// A scene shape placed in the world, ready for point queries (the scene layer's compiled
 /// parry shape, owned by the world frame).
@@ -36,6 +36,12 @@ impl PlacedShape {
     pub(crate) fn project(&self, p: &Point3<f64>) -> Projection {
         let (point, inside) = self.shape.project_point(&Isometry3::identity(), p);
         Projection { point, inside }
+    }
+
+    /// The separation (m) between the two solids, 0 if they touch or overlap.
+    pub(crate) fn gap(&self, other: &PlacedShape) -> f64 {
+        let at = Isometry3::identity();
+        Placed::new(&self.shape, &at).distance(&Placed::new(&other.shape, &at))
     }
 
     /// Distance from `p` to the solid (0 inside).

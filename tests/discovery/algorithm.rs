@@ -12,11 +12,12 @@ use kinscene::discovery::{
 use kinscene::kinematics::articulation::{
     ArticulationEstimator, Proprioceptive, TwoView, axis_angle_error, axis_position_error,
 };
-use kinscene::scene::{JointKind, SceneModel, urdf};
+use kinscene::scene::{JointKind, SceneModel, Shape, urdf};
 use nalgebra::{Isometry2, Point3, Vector2, Vector3};
 
 use super::scenes::{
     DOOR_AXIS, DOOR_PIVOT, DRAWER_AXIS, door_cabinet, door_with_tray, drawer_cabinet,
+    hollow_drawer_cabinet,
 };
 use super::world::{World, WorldSettings};
 
@@ -208,6 +209,73 @@ fn one_drawer_is_discovered_as_prismatic() {
             d.state.as_slice()[0]
         );
     }
+}
+
+/// In a hollow carcass the registered drawer gets a body behind its front (the camera never
+/// sees it): as deep as the upper limit (0.4 m), inside the cavity (x in [0.02, 0.58], y in
+/// [0, 0.46], z in [0.05, 0.75], from the scene's panels), so the closed scene stays
+/// collision-free; in the solid carcass of the other drawer tests there is no room for one,
+/// and the log says so.
+#[test]
+fn a_drawer_in_a_hollow_carcass_gets_a_body() {
+    let (_, d) = run_with(
+        hollow_drawer_cabinet(),
+        &TwoView::default(),
+        11,
+        |_| {},
+        &DiscoverySettings::default(),
+    );
+    assert!(d.log[0].succeeded(), "{:#?}", d.log[0]);
+    assert!(
+        d.log[0]
+            .notes
+            .iter()
+            .any(|n| n.contains("drawer body modelled")),
+        "{:#?}",
+        d.log[0].notes
+    );
+    let part = &d.model.parts()[0];
+    let joint = &d.model.joints()[0];
+    assert!(joint.limits.upper >= 0.4);
+    // Parts on the base: world = joint frame at value 0.
+    let world_from_part = joint.parent_from_joint;
+    let body = part
+        .colliders()
+        .iter()
+        .map(|c| {
+            let Shape::Cuboid { half_extents } = c.shape else {
+                panic!("a box part: {:?}", c.shape)
+            };
+            let pose = world_from_part * c.part_from_shape;
+            let r = pose.rotation.to_rotation_matrix();
+            let ext: Vector3<f64> = r.matrix().abs() * half_extents;
+            (pose.translation.vector - ext, pose.translation.vector + ext)
+        })
+        .find(|(lo, _)| lo.y > 0.0)
+        .expect("a box behind the front");
+    let (lo, hi) = body;
+    assert!(hi.y - lo.y > 0.39, "body {lo:?}..{hi:?}");
+    assert!(lo.x >= 0.02 && hi.x <= 0.58, "body {lo:?}..{hi:?}");
+    assert!(lo.y >= 0.0 && hi.y <= 0.46, "body {lo:?}..{hi:?}");
+    assert!(lo.z >= 0.05 && hi.z <= 0.75, "body {lo:?}..{hi:?}");
+    assert!(d.reconciliation.unresolved.is_empty());
+
+    let (_, solid) = run_with(
+        drawer_cabinet(),
+        &TwoView::default(),
+        11,
+        |_| {},
+        &DiscoverySettings::default(),
+    );
+    assert!(
+        solid.log[0]
+            .notes
+            .iter()
+            .any(|n| n.contains("no drawer body modelled")),
+        "{:#?}",
+        solid.log[0].notes
+    );
+    assert_eq!(solid.model.parts()[0].colliders().len(), 1);
 }
 
 #[test]

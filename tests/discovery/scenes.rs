@@ -68,7 +68,26 @@ pub const DRAWER_AXIS: [f64; 3] = [0.0, -1.0, 0.0];
 /// along -y from the centre of the front's outer face (0.3, -0.02, 0.6); handle 3 cm proud at
 /// world (0.3, -0.05, 0.6); limits [0, 0.4].
 pub fn drawer_cabinet() -> SceneModel {
-    let mut b = cabinet_base();
+    drawer_in(cabinet_base())
+}
+
+/// The drawer of [`drawer_cabinet`] in a hollow carcass of the same outline: 2 cm side panels
+/// (x in [0, 0.02] and [0.58, 0.6]), a 4 cm back (y in [0.46, 0.5]), 5 cm bottom and top
+/// (z in [0, 0.05] and [0.75, 0.8]); the cavity x in [0.02, 0.58], y in [0, 0.46], z in
+/// [0.05, 0.75] holds the drawer's body (x in [0.07, 0.53], y in [0, 0.4], z in [0.52, 0.68]).
+pub fn hollow_drawer_cabinet() -> SceneModel {
+    let mut b = SceneModelBuilder::new();
+    b.add_base_shape(slab("floor", [-2.0, -3.0, -0.05], [3.0, 2.0, 0.0]));
+    b.add_base_shape(slab("left", [0.0, 0.0, 0.0], [0.02, 0.5, 0.8]));
+    b.add_base_shape(slab("right", [0.58, 0.0, 0.0], [0.6, 0.5, 0.8]));
+    b.add_base_shape(slab("back", [0.02, 0.46, 0.0], [0.58, 0.5, 0.8]));
+    b.add_base_shape(slab("bottom", [0.02, 0.0, 0.0], [0.58, 0.46, 0.05]));
+    b.add_base_shape(slab("top", [0.02, 0.0, 0.75], [0.58, 0.46, 0.8]));
+    drawer_in(b)
+}
+
+/// The drawer of [`drawer_cabinet`] on the base `b`.
+fn drawer_in(mut b: SceneModelBuilder) -> SceneModel {
     b.add_part(
         PartSpec::on_base(
             "drawer",
