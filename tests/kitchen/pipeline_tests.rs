@@ -166,3 +166,47 @@ fn bad_configurations_are_typed_errors() {
     );
     assert!(EstimatorChoice::parse("ditto").is_err());
 }
+
+/// The exploration order on run 0's mapped handles of the drawer stack (seed 1): the top
+/// drawer's handle (1.41, 2.38, 0.74) is 2.909 m from the start (1.0, −0.5), the pot drawer's
+/// (1.40, 2.36, 0.36) 2.888 m — 10 cm distance bins put the top one first. They are 2.2 cm
+/// apart horizontally, one stack, so the lower goes first; the sink door's (2.15, 2.35, 0.75),
+/// 2.962 m away by hand (hypot(1.15, 2.85)), heads the order, and the island drawer's
+/// (1.81, 0.61, 0.74), 1.375 m (hypot(0.81, 1.11)), ends it.
+#[test]
+fn stacked_handles_are_explored_lowest_first() {
+    use kinscene::discovery::MappedHandle;
+    use nalgebra::{Point3, Vector3};
+
+    use super::pipeline::selection_order;
+
+    let at = |x: f64, y: f64, z: f64| MappedHandle {
+        position: Point3::new(x, y, z),
+        half_extents: Vector3::repeat(0.01),
+        confidence: 0.9,
+        views: 1,
+        spread: 0.0,
+        stamp: 0.0,
+        attachment: None,
+    };
+    let mut handles = vec![
+        at(1.81, 0.61, 0.74),
+        at(1.41, 2.38, 0.74),
+        at(2.15, 2.35, 0.75),
+        at(1.40, 2.36, 0.36),
+    ];
+    selection_order(&mut handles, [1.0, -0.5, 1.5708]);
+    let order: Vec<[f64; 3]> = handles
+        .iter()
+        .map(|h| [h.position.x, h.position.y, h.position.z])
+        .collect();
+    assert_eq!(
+        order,
+        vec![
+            [2.15, 2.35, 0.75],
+            [1.40, 2.36, 0.36],
+            [1.41, 2.38, 0.74],
+            [1.81, 0.61, 0.74],
+        ]
+    );
+}

@@ -409,7 +409,7 @@ pub fn table1_part(
     };
     let mut attempts = Vec::new();
     let (est, matches) = c.estimated;
-    let ours = match translate(est, matches, &goal) {
+    let ours = match translate(truth_model, est, matches, &goal) {
         Ok(tr) => Some(plan_and_execute(
             c.planning,
             world,

@@ -2,7 +2,7 @@
 //! estimated model, Oracle on the true one, Random's order refined), executed in the simulator
 //! and judged on the true state.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::time::{Duration, Instant};
 
 use kinscene::discovery::{Observation, reconcile};
@@ -10,7 +10,7 @@ use kinscene::planner::{
     HierarchicalPlanner, MotionDocument, MotionOutcome, MotionPlan, PlannerResult, RefineOutcome,
 };
 use kinscene::scene::collision::SweepSettings;
-use kinscene::scene::{JointKind, SceneModel, State};
+use kinscene::scene::{BaseShape, JointKind, SceneData, SceneModel, State, forward_kinematics};
 use kinscene::task::{
     self, Cause, Infeasibility, NoRefinement, Outcome, Problem, SearchStats, Strategy,
     TaskSettings, Termination,
@@ -175,7 +175,52 @@ pub struct Translated {
 
 /// Translates `goal` to the estimated model `est` through `matches`. `Err` is the reason it
 /// cannot (a goal joint without an estimated part), an outcome of the run, not bad input.
+///
+/// The true parts no estimated part matches (discovery did not register them, or their
+/// handles were never mapped) join the model as static obstacles at their start pose
+/// ([`seen_unregistered`]): the map holds what the robot sees, articulated or not.
+/// The colliders of the true parts no match names, at the true start state of `goal`, as
+/// base shapes named `seen_<part>_<k>`: the kitchen's map is the true static geometry (a
+/// perfect SLAM map, see `stages::map`), and a SLAM map of the scene the robot starts in
+/// holds these fronts too — only their joints are unknown, so they are fixed. A part whose
+/// parent part is registered is left out (it moves with its parent, which the planner may
+/// move); parts on an unregistered parent are kept with it.
+///
+/// # Errors
+/// The reason, if the truth rejects the start state (a bug of the sequence table).
+pub fn seen_unregistered(
+    truth: &SceneModel,
+    matches: &[Match],
+    goal: &TrueGoal,
+) -> Result<Vec<BaseShape>, String> {
+    let registered: BTreeSet<&str> = matches.iter().map(|m| m.true_joint.as_str()).collect();
+    let start = State::from_values_clamped(truth, goal.start.iter().map(|(n, v)| (n.as_str(), *v)))
+        .map_err(|e| format!("the start does not fit the true model: {e}"))?;
+    let mut data = SceneData::new(truth);
+    forward_kinematics(truth, &mut data, &start).map_err(|e| e.to_string())?;
+    let mut shapes = Vec::new();
+    for part in truth.parts() {
+        let unregistered = truth.path_to_base(part.id()).all(|p| {
+            let joint = &truth.joints()[p.joint().index()];
+            !registered.contains(joint.name.as_str())
+        });
+        if !unregistered {
+            continue;
+        }
+        let world_from_part = data.world_from_parts()[part.id().index()];
+        for (k, c) in part.colliders().iter().enumerate() {
+            shapes.push(BaseShape::new(
+                format!("seen_{}_{k}", part.name()),
+                c.shape.clone(),
+                world_from_part * c.part_from_shape,
+            ));
+        }
+    }
+    Ok(shapes)
+}
+
 pub fn translate(
+    truth: &SceneModel,
     est: &SceneModel,
     matches: &[Match],
     goal: &TrueGoal,
@@ -211,6 +256,9 @@ pub fn translate(
         }
     }
     let mut builder = est.to_builder();
+    for shape in seen_unregistered(truth, matches, goal)? {
+        builder.add_base_shape(shape);
+    }
     for part in &mut builder.parts {
         if let Some(v) = needed.get(&part.joint.name) {
             if *v > part.joint.limits.upper {

@@ -275,7 +275,8 @@ impl Report {
             s,
             "## Stage 2: articulation discovery\n\nHandles are explored farthest from the \
              start first (parts are left open; exploring from the far end keeps the way \
-             free). A registered part is matched to the true part whose handle (zero state) \
+             free), stacked handles lowest first (an open drawer above would hide the top of \
+             the front below from the cameras). A registered part is matched to the true part whose handle (zero state) \
              is within 6 cm of its own.\n"
         );
         let _ = writeln!(
@@ -408,7 +409,10 @@ impl Report {
              cut back by the discovery stage wherever they collided in what the robot saw \
              (the closed scene, each opening it executed; depth noise makes boxes a little \
              too large, and adjacent fronts are 3–6 mm apart), and again at each sequence's \
-             start state, one face at a time. Success: the \
+             start state, one face at a time. Parts the discovery stage did not register \
+             (or whose handles were never mapped) are in the map as fixed obstacles at the \
+             start state (the map is the true static geometry, a perfect SLAM map of what the \
+             robot sees; only their joints are unknown). Success: the \
              simulator's true state meets every target (within {:.2} rad / {:.0} mm).\n",
             REVOLUTE_TOLERANCE,
             PRISMATIC_TOLERANCE * 1e3

@@ -42,6 +42,9 @@ use super::report::svg;
 use super::sim;
 
 pub use config::{Config, EstimatorChoice, Experiment, ExploreScope, Method};
+// For tests/kitchen (the binary itself calls it through the session).
+#[allow(unused_imports)]
+pub use stages::selection_order;
 pub use summary::Report;
 // For the tests (the binary does not use them).
 #[allow(unused_imports)]

@@ -245,7 +245,7 @@ impl Session<'_> {
                 start: q.start.iter().map(|(j, v)| (j.to_string(), *v)).collect(),
                 base: START_BASE,
             };
-            let translated = translate(&est, &matches, &goal);
+            let translated = translate(self.truth, &est, &matches, &goal);
             let random_seed = seed.wrapping_mul(16).wrapping_add(k as u64);
             fig5::attempts(self, &mut world, r, &q, &goal, &translated, random_seed)?;
         }
