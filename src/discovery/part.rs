@@ -285,6 +285,16 @@ pub(crate) fn new_part(
     })
 }
 
+/// The base map's shapes, placed for queries.
+fn placed_base(model: &SceneModel) -> Vec<PlacedShape> {
+    model
+        .base()
+        .shapes
+        .iter()
+        .filter_map(|b| PlacedShape::new(&b.shape, &b.world_from_shape))
+        .collect()
+}
+
 /// Largest share of the front's half width and height a drawer body may lose to fit the base
 /// map's free space behind the front.
 const BODY_MAX_SHRINK: f64 = 0.4;
@@ -304,12 +314,7 @@ fn drawer_body(
     axis: &Vector3<f64>,
     depth: f64,
 ) -> (Option<OrientedBox>, String) {
-    let base: Vec<PlacedShape> = model
-        .base()
-        .shapes
-        .iter()
-        .filter_map(|b| PlacedShape::new(&b.shape, &b.world_from_shape))
-        .collect();
+    let base = placed_base(model);
     let h = front.half_extents;
     let limit = BODY_MAX_SHRINK * h.x.min(h.y);
     let mut shrink = 0.0;
@@ -480,12 +485,7 @@ fn clear_of_base(model: &SceneModel, points: Vec<Point3<f64>>, clearance: f64) -
     if clearance <= 0.0 {
         return points;
     }
-    let base: Vec<PlacedShape> = model
-        .base()
-        .shapes
-        .iter()
-        .filter_map(|b| PlacedShape::new(&b.shape, &b.world_from_shape))
-        .collect();
+    let base = placed_base(model);
     points
         .into_iter()
         .filter(|p| base.iter().all(|b| b.distance(p) > clearance))

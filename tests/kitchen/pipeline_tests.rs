@@ -195,7 +195,7 @@ fn stacked_handles_are_explored_lowest_first() {
         at(2.15, 2.35, 0.75),
         at(1.40, 2.36, 0.36),
     ];
-    selection_order(&mut handles, [1.0, -0.5, 1.5708]);
+    selection_order(&mut handles, [1.0, -0.5, std::f64::consts::FRAC_PI_2]);
     let order: Vec<[f64; 3]> = handles
         .iter()
         .map(|h| [h.position.x, h.position.y, h.position.z])

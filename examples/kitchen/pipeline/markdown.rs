@@ -619,7 +619,8 @@ impl Report {
         let _ = writeln!(
             s,
             "## Table II: articulation estimation\n\nOver every registered part matched to a \
-             true part of the same type, at the zero state: axis angle error (degrees, the \
+             true part of the same type (the estimator's type too: a tiny turn registered as \
+             the slide the exploration saw is a wrong estimate), at the zero state: axis angle error (degrees, the \
              axis' sign ignored) and, for revolute joints, the distance between the axis lines \
              (m), DiTH's metrics, of the estimator's own axis (as logged; registration then \
              levels an axis within {:.0}° of horizontal or vertical, the gravity prior, and the \
@@ -670,7 +671,15 @@ impl Report {
                 r.m.true_joint,
                 r.m.est_joint,
                 kind_name(r.m.true_kind),
-                kind_name(r.m.est_kind),
+                if r.m.estimator_kind == r.m.est_kind {
+                    kind_name(r.m.est_kind).to_string()
+                } else {
+                    format!(
+                        "{} (registered {})",
+                        kind_name(r.m.estimator_kind),
+                        kind_name(r.m.est_kind)
+                    )
+                },
                 r.m.angle_error,
                 num(r.m.position_error, 3),
                 r.m.handle_distance,

@@ -84,6 +84,10 @@ pub struct Match {
     /// Axis position error (m) for a revolute joint of the right type (the distance between
     /// the axis lines), else `None`; of the estimator's axis, like `angle_error`.
     pub position_error: Option<f64>,
+    /// The estimator's own joint type (the discovery log's estimate), which registration may
+    /// have changed (a tiny turn the exploration saw as a slide is registered prismatic);
+    /// Table II counts a part only where the estimator, too, got the type right.
+    pub estimator_kind: JointKind,
     /// The angle error (degrees) of the registered joint: the estimate after discovery's
     /// gravity prior ([`DiscoverySettings::axis_snap`]).
     pub registered_angle_error: f64,
@@ -129,6 +133,7 @@ pub fn match_parts(truth: &[PartAxis], est: &[PartAxis]) -> Vec<Match> {
             angle_error,
             position_error,
             registered_angle_error: angle_error,
+            estimator_kind: e.kind,
             est_upper: e.limits[1],
             same_sense: t.kind == e.kind && e.direction.dot(&t.direction) > 0.0,
         });
@@ -159,7 +164,12 @@ pub fn estimator_errors(matches: &mut [Match], truth: &[PartAxis], d: &Discovery
         let Some((axis, e)) = estimate.and_then(|e| Some((e.axis?, e))) else {
             continue;
         };
-        if !on_base {
+        m.estimator_kind = match e.kind.as_str() {
+            "revolute" => JointKind::Revolute,
+            "prismatic" => JointKind::Prismatic,
+            _ => m.estimator_kind,
+        };
+        if !on_base || m.estimator_kind != m.est_kind {
             continue;
         }
         m.angle_error = axis_angle_error(&axis, &t.direction);

@@ -346,10 +346,9 @@ pub fn table2_summary(rows: &[Table2Row], types: &[TypeCheck]) -> Vec<Table2Summ
         .map(|e| {
             let right: Vec<&Table2Row> = rows.iter().filter(|r| r.estimator == e).collect();
             let of = |k: JointKind| {
-                right
-                    .iter()
-                    .copied()
-                    .filter(move |r| r.m.true_kind == k && r.m.est_kind == k)
+                right.iter().copied().filter(move |r| {
+                    r.m.true_kind == k && r.m.est_kind == k && r.m.estimator_kind == k
+                })
             };
             let t: Vec<&TypeCheck> = types.iter().filter(|t| t.estimator == e).collect();
             Table2Summary {
