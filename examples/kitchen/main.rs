@@ -64,9 +64,9 @@ struct Args {
     #[arg(long, default_value = "two-view")]
     estimator: String,
     /// The discovery stage's gravity prior (degrees): an estimated axis within this angle of
-    /// horizontal or vertical is registered level (0: off).
-    #[arg(long, default_value_t = 10.0)]
-    axis_snap: f64,
+    /// horizontal or vertical is registered level (0: off; default: the library's, 10°).
+    #[arg(long)]
+    axis_snap: Option<f64>,
     /// Budget of each planner call (s).
     #[arg(long, default_value_t = 60.0)]
     budget: f64,
@@ -131,7 +131,9 @@ fn config(args: &Args) -> Result<Config, pipeline::PipelineError> {
             ExploreScope::All
         },
         discovery: kinscene::discovery::DiscoverySettings {
-            axis_snap: args.axis_snap.to_radians(),
+            axis_snap: args
+                .axis_snap
+                .map_or(base.discovery.axis_snap, f64::to_radians),
             ..base.discovery
         },
         ..base

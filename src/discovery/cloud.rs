@@ -3,7 +3,9 @@
 
 use std::collections::HashMap;
 
-use nalgebra::{Matrix3, Point3, Rotation3, Unit, UnitQuaternion, Vector3};
+use nalgebra::{
+    Isometry3, Matrix3, Point3, Rotation3, Translation3, Unit, UnitQuaternion, Vector3,
+};
 
 /// A uniform voxel hash over points for fixed-radius queries (cell edge = the query radius).
 #[derive(Debug, Clone)]
@@ -176,6 +178,13 @@ pub(crate) struct OrientedBox {
     pub rotation: UnitQuaternion<f64>,
     /// Half extents along the box axes (m).
     pub half_extents: Vector3<f64>,
+}
+
+impl OrientedBox {
+    /// World from box frame: the centre and the box axes.
+    pub fn world_from_box(&self) -> Isometry3<f64> {
+        Isometry3::from_parts(Translation3::from(self.center.coords), self.rotation)
+    }
 }
 
 /// The oriented bounding box of `points` with one axis along `axis` (unit): the orientation

@@ -255,10 +255,9 @@ pub(crate) fn new_part(
     }
     let boxed = !boxes.is_empty();
     for b in boxes {
-        let world_from_box = Isometry3::from_parts(Translation3::from(b.center.coords), b.rotation);
         spec = spec.with_collider(
             Shape::cuboid(b.half_extents),
-            part_from_world * world_from_box,
+            part_from_world * b.world_from_box(),
         );
     }
     if !boxed {
@@ -324,9 +323,7 @@ fn drawer_body(
             rotation: front.rotation,
             half_extents: Vector3::new(h.x - shrink, h.y - shrink, depth / 2.0),
         };
-        let world_from_body =
-            Isometry3::from_parts(Translation3::from(body.center.coords), body.rotation);
-        let clear = PlacedShape::new(&Shape::cuboid(body.half_extents), &world_from_body)
+        let clear = PlacedShape::new(&Shape::cuboid(body.half_extents), &body.world_from_box())
             .is_some_and(|placed| base.iter().all(|b| b.gap(&placed) > 0.0));
         if clear {
             return (

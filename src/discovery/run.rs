@@ -2,7 +2,7 @@
 //! Reposition, the post-interaction observation, PredArticulation and the part to register.
 //! The rules are documented on [`discover`](super::discover).
 
-use nalgebra::{Isometry2, Isometry3, Point3, Rotation3, Unit, Vector2};
+use nalgebra::{Isometry2, Isometry3, Point3, Unit, Vector2};
 
 use super::error::{DiscoveryError, check_finite};
 use super::explore::{AttemptInput, attempt, checked_cloud, surface_normal};
@@ -13,7 +13,7 @@ use super::part::{NewPart, Observed, new_part};
 use super::placement::{FreeSpace, horizontal, plan_base, shifted};
 use super::settings::DiscoverySettings;
 use crate::kinematics::articulation::{ArticulationEstimator, Interaction, JointEstimate};
-use crate::scene::{SceneModel, State};
+use crate::scene::{JointAxis, JointKind, SceneModel, State};
 
 /// A refined normal more than this far (rad) from the registered one is not trusted: 45°.
 const MAX_NORMAL_REFINEMENT: f64 = std::f64::consts::FRAC_PI_4;
@@ -450,11 +450,15 @@ fn small_turn_as_slide(
     if !moved.all(|a| a.motion == MotionClass::Prismatic) || angle.abs() >= threshold {
         return None;
     }
-    let turn = Rotation3::from_axis_angle(axis, *angle);
-    let chord = pivot + turn * (contact - pivot) - contact;
+    let turn = JointAxis {
+        kind: JointKind::Revolute,
+        pivot: *pivot,
+        direction: *axis,
+    };
+    let chord = turn.move_point(contact, *angle) - contact;
     let distance = chord.norm();
     let direction = Unit::try_new(chord, 1e-9)?;
-    let radius = (contact - pivot - axis.into_inner() * (contact - pivot).dot(axis)).norm();
+    let radius = turn.distance_to_axis(contact);
     Some((
         JointEstimate::Prismatic {
             axis: direction,

@@ -276,8 +276,8 @@ impl Report {
             "## Stage 2: articulation discovery\n\nHandles are explored farthest from the \
              start first (parts are left open; exploring from the far end keeps the way \
              free), stacked handles lowest first (an open drawer above would hide the top of \
-             the front below from the cameras). A registered part is matched to the true part whose handle (zero state) \
-             is within 6 cm of its own.\n"
+             the front below from the cameras). A registered part is matched to the true \
+             part whose handle (zero state) is within 6 cm of its own.\n"
         );
         let _ = writeln!(
             s,
@@ -620,9 +620,9 @@ impl Report {
             s,
             "## Table II: articulation estimation\n\nOver every registered part matched to a \
              true part of the same type (the estimator's type too: a tiny turn registered as \
-             the slide the exploration saw is a wrong estimate), at the zero state: axis angle error (degrees, the \
-             axis' sign ignored) and, for revolute joints, the distance between the axis lines \
-             (m), DiTH's metrics, of the estimator's own axis (as logged; registration then \
+             the slide the exploration saw is a wrong estimate), at the zero state: axis \
+             angle error (degrees, the axis' sign ignored) and, for revolute joints, the \
+             distance between the axis lines (m), DiTH's metrics, of the estimator's own axis (as logged; registration then \
              levels an axis within {:.0}° of horizontal or vertical, the gravity prior, and the \
              registered joint's angle error is in the last table). Type accuracy over every \
              estimate of a true part's handle (`unknown` counts as wrong). Depth noise σ = \
