@@ -49,12 +49,34 @@
 //! move a joint the search never had to activate (closing a second door instead of the goal door).
 //! With `w > 1` the same statements hold with "at most `w` times the minimum" instead of "minimal"
 //! (a goal node is taken when its cost is at most `w` times the least open lower bound). The
-//! default `w = 1` keeps the cost minimal; `w = 2` is the speed setting for large rooms: with
-//! `travel > 0`, A* must close most subsets of the goal joints whose lower bound lies below the
-//! plan's cost, and the travel bound stays far below the length of the route (100 parts / 20
-//! goal joints: none of 5 generated instances within 2 s), whereas the focal order dives toward
-//! the goal (the same instances: 0.1–0.3 s). Soundness and completeness do not depend on the
-//! order (the proofs let the search pop any open entry).
+//! default `w = 1` keeps the cost minimal. With `travel > 0`, A* must close most subsets of the
+//! goal joints whose lower bound lies below the plan's cost, and the travel bound stays far
+//! below the length of the route (100 parts / 20 goal joints: none of 5 generated instances
+//! within 2 s), whereas the focal order with `w = 2` dives toward the goal (the same instances:
+//! a plan in 0.1–0.3 s); hence the anytime passes below. Soundness and completeness do not
+//! depend on the order (the proofs let the search pop any open entry).
+//!
+//! # Anytime
+//! With `travel > 0` and [`TaskSettings::first_pass_weight`] (default 2) above
+//! `heuristic_weight`, the search is *restarting weighted A\**: a first pass with the focal
+//! weight `first_pass_weight` finds a plan; it is returned at once when its cost is already at
+//! most `heuristic_weight` times the least lower bound still open, otherwise it becomes the
+//! *incumbent* and a second pass with `heuristic_weight` starts over (with the active joints
+//! and the memo of the first; refiner verdicts are not asked again), dropping every open item
+//! whose lower bound reaches the incumbent's cost. The second pass either returns a cheaper
+//! plan (within `heuristic_weight` of its least open bound, the usual focal guarantee), or
+//! exhausts its items (the incumbent is then minimal over the active joints), or is stopped by
+//! the budget or the cancel flag: then the incumbent is returned as `Solved`, not `Timeout`.
+//! [`SearchStats::suboptimality`] states the factor every returned plan is proven within (1:
+//! minimal, with the caveats above; on a stop, the smaller of the first pass's factor and the
+//! incumbent's cost over the least open bound), [`SearchStats::first_plan`] when the first
+//! plan was found and [`SearchStats::passes`] how many passes ran. So a budgeted call returns
+//! a plan as soon as any plan has been found and the budget ends, and the minimum when the
+//! budget allows the proof; an unbudgeted call returns the proven minimum (as a single pass
+//! of `heuristic_weight` would; its cost may differ from that pass's only by the first-arrival
+//! caveat). The first pass's verdict `Infeasible` is final (completeness does not depend on
+//! the order). Without travel the heuristic is close to the cost, a single pass of
+//! `heuristic_weight` is usually faster, and it is what runs.
 //!
 //! The robot's start cell anchors reachability: a move is feasible only if its base pose is
 //! connected to the start cell both before and after the move. A move whose part comes to

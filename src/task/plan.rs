@@ -240,6 +240,20 @@ pub struct SearchStats {
     pub active_joints: usize,
     /// Orders sampled (baselines).
     pub samples: usize,
+    /// Passes of the anytime search (1: the first plan was already within
+    /// [`TaskSettings::heuristic_weight`](super::TaskSettings::heuristic_weight) of the bound;
+    /// 2: a second pass tried to improve it). 0 for the baselines.
+    #[serde(default)]
+    pub passes: usize,
+    /// Wall-clock time to the first plan found (the search's; `None` when none was found or
+    /// for the baselines).
+    #[serde(default, with = "opt_secs")]
+    pub first_plan: Option<Duration>,
+    /// For a plan the search returns: a proven factor `≥ 1` with cost ≤ factor × the least
+    /// cost of any plan over the joints active at the end (1: minimal; see the [module
+    /// docs](super#anytime)). `None` for other outcomes and for the baselines.
+    #[serde(default)]
+    pub suboptimality: Option<f64>,
     /// Wall-clock time.
     #[serde(with = "secs")]
     pub elapsed: Duration,
@@ -254,6 +268,21 @@ mod secs {
     pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Duration, D::Error> {
         let v = f64::deserialize(d)?;
         Ok(Duration::try_from_secs_f64(v).unwrap_or_default())
+    }
+}
+
+mod opt_secs {
+    use serde::{Deserialize, Deserializer, Serializer};
+    use std::time::Duration;
+    pub fn serialize<S: Serializer>(d: &Option<Duration>, s: S) -> Result<S::Ok, S::Error> {
+        match d {
+            Some(d) => s.serialize_some(&d.as_secs_f64()),
+            None => s.serialize_none(),
+        }
+    }
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Duration>, D::Error> {
+        let v = Option::<f64>::deserialize(d)?;
+        Ok(v.and_then(|v| Duration::try_from_secs_f64(v).ok()))
     }
 }
 

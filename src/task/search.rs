@@ -92,6 +92,8 @@ impl Ord for Ordered {
 /// progress.
 struct Open {
     weight: f64,
+    /// Items with `f` at or above this are dropped (the anytime pass's incumbent cost).
+    cap: f64,
     items: HashMap<u64, Entry>,
     by_f: BTreeSet<(Ordered, u64)>,
     /// Focal order: unmet targets, f, −g, seq.
@@ -101,9 +103,10 @@ struct Open {
 }
 
 impl Open {
-    fn new(weight: f64) -> Self {
+    fn new(weight: f64, cap: f64) -> Self {
         Open {
             weight,
+            cap,
             items: HashMap::new(),
             by_f: BTreeSet::new(),
             focal: BTreeSet::new(),
@@ -151,6 +154,10 @@ impl Open {
     }
 
     fn push(&mut self, e: Entry) {
+        // No plan through it can beat the incumbent.
+        if e.f >= self.cap - 1e-9 {
+            return;
+        }
         let seq = e.seq;
         self.by_f.insert((Ordered(e.f), seq));
         if e.f <= self.bound {
@@ -173,6 +180,11 @@ impl Open {
         self.by_f.remove(&(Ordered(e.f), e.seq));
         self.rebound();
         Some(e)
+    }
+
+    /// The least open `f` (`+∞` when empty).
+    fn least_f(&self) -> f64 {
+        self.by_f.first().map_or(f64::INFINITY, |(f, _)| f.0)
     }
 
     /// The next `n` items in pop order (without popping them).
@@ -243,7 +255,18 @@ pub(crate) fn run(
             });
         }
     }
-    let w = settings.heuristic_weight;
+    // The anytime passes: the first with `first_pass_weight`, then (if its plan is not yet
+    // proven within `heuristic_weight`) one with `heuristic_weight` below the incumbent.
+    let final_w = settings.heuristic_weight;
+    // Without base travel the heuristic is close to the cost and one pass of `final_w` is
+    // usually faster (see `TaskSettings::first_pass_weight`).
+    let mut w = if settings.cost.travel > 0.0 {
+        settings.first_pass_weight.max(final_w)
+    } else {
+        final_w
+    };
+    let mut incumbent: Option<Incumbent> = None;
+    stats.passes = 1;
     // The lower bound on the cost still to pay from a state with the robot at `cell`.
     let h = |key: &[u16], cell: usize| heuristic.work(key) + heuristic.travel_of(key).at(cell);
     let mut active = vec![false; model.nq()];
@@ -257,12 +280,13 @@ pub(crate) fn run(
     .max(1);
     // The closed state nearest the goal so far: (unmet targets, heuristic, steps to it).
     let mut best_partial: Option<Best> = None;
-    loop {
+    'passes: loop {
         stats.rounds += 1;
         stats.active_joints = active.iter().filter(|a| **a).count();
         let mut nodes: Vec<Node> = Vec::new();
         let mut closed: HashSet<Key> = HashSet::new();
-        let mut heap = Open::new(w);
+        let cap = incumbent.as_ref().map_or(f64::INFINITY, |i| i.cost);
+        let mut heap = Open::new(w, cap);
         let mut seq = 0u64;
         let mut failures: Vec<Recorded> = Vec::new();
         let mut new_blockers = vec![false; model.nq()];
@@ -313,11 +337,15 @@ pub(crate) fn run(
             if termination.should_stop() {
                 stats.elapsed = started.elapsed();
                 stats.vetoes = caches.vetoes;
-                let partial = partial_plan(model, problem, best_partial);
-                return Ok(PlanResult {
-                    outcome: Outcome::Timeout(partial),
+                let least = heap.least_f().min(entry.f);
+                return Ok(stopped(
+                    model,
+                    problem,
+                    incumbent,
+                    best_partial,
+                    least,
                     stats,
-                });
+                ));
             }
             match entry.item {
                 Item::Node(node) => {
@@ -344,13 +372,34 @@ pub(crate) fn run(
                         best_partial = Some((unmet, hk, path_to(&nodes, idx)));
                     }
                     if unmet == 0 {
-                        stats.elapsed = started.elapsed();
-                        stats.vetoes = caches.vetoes;
+                        // Proven factor: its cost over the least lower bound still open
+                        // (the popped item's own `f` included).
+                        let least = heap.least_f().min(entry.f);
+                        let factor = if g <= least { 1.0 } else { g / least };
                         let steps = path_to(&nodes, idx);
-                        return Ok(PlanResult {
-                            outcome: Outcome::Solved(Plan { steps, cost: g }),
-                            stats,
+                        stats.first_plan.get_or_insert(started.elapsed());
+                        if factor <= final_w + 1e-9 || incumbent.is_some() {
+                            // Within the final weight, or a pass-2 plan (cheaper than the
+                            // incumbent by the cap, and within `final_w` by the focal rule).
+                            stats.elapsed = started.elapsed();
+                            stats.vetoes = caches.vetoes;
+                            stats.suboptimality = Some(factor.min(w));
+                            return Ok(PlanResult {
+                                outcome: Outcome::Solved(Plan { steps, cost: g }),
+                                stats,
+                            });
+                        }
+                        incumbent = Some(Incumbent {
+                            steps,
+                            cost: g,
+                            factor: factor.min(w),
                         });
+                        w = final_w;
+                        stats.passes = 2;
+                        // The second pass goes on with this round's active set: not a new
+                        // round of it.
+                        stats.rounds -= 1;
+                        continue 'passes;
                     }
                     let robot = checker.cell_xy(nodes[idx].robot);
                     let approach = heuristic.approach(model, &mut data, &state, &active, robot)?;
@@ -538,10 +587,16 @@ pub(crate) fn run(
             if termination.should_stop() {
                 stats.elapsed = started.elapsed();
                 stats.vetoes = caches.vetoes;
-                return Ok(PlanResult {
-                    outcome: Outcome::Timeout(partial_plan(model, problem, best_partial)),
+                // The round's open items are all gone: no lower bound below the cap left
+                // to report, so the incumbent keeps the factor it had.
+                return Ok(stopped(
+                    model,
+                    problem,
+                    incumbent,
+                    best_partial,
+                    f64::INFINITY,
                     stats,
-                });
+                ));
             }
         }
         let all_active = active.iter().all(|a| *a);
@@ -561,6 +616,17 @@ pub(crate) fn run(
         if !grow {
             stats.elapsed = started.elapsed();
             stats.vetoes = caches.vetoes;
+            if let Some(inc) = incumbent {
+                // No plan below the incumbent's cost over the active joints: it is minimal.
+                stats.suboptimality = Some(1.0);
+                return Ok(PlanResult {
+                    outcome: Outcome::Solved(Plan {
+                        steps: inc.steps,
+                        cost: inc.cost,
+                    }),
+                    stats,
+                });
+            }
             let why = infeasibility(
                 model,
                 problem,
@@ -642,6 +708,48 @@ fn close_over_ancestors(model: &SceneModel, joint: JointId, active: &mut [bool])
     while let crate::scene::Parent::Part(p) = model.parts()[id.index()].parent() {
         active[p.index()] = true;
         id = p;
+    }
+}
+
+/// The anytime search's best plan so far.
+struct Incumbent {
+    steps: Vec<Step>,
+    cost: f64,
+    /// The factor it is proven within.
+    factor: f64,
+}
+
+/// The result when the budget or the cancel flag stops the search: the incumbent, proven
+/// within the smaller of its factor and its cost over `least` (the least open lower bound,
+/// `+∞` if none is known), or else the partial plan.
+fn stopped(
+    model: &SceneModel,
+    problem: &Problem,
+    incumbent: Option<Incumbent>,
+    best_partial: Option<Best>,
+    least: f64,
+    mut stats: SearchStats,
+) -> PlanResult {
+    match incumbent {
+        Some(inc) => {
+            let factor = if inc.cost <= least {
+                1.0
+            } else {
+                inc.factor.min(inc.cost / least)
+            };
+            stats.suboptimality = Some(factor);
+            PlanResult {
+                outcome: Outcome::Solved(Plan {
+                    steps: inc.steps,
+                    cost: inc.cost,
+                }),
+                stats,
+            }
+        }
+        None => PlanResult {
+            outcome: Outcome::Timeout(partial_plan(model, problem, best_partial)),
+            stats,
+        },
     }
 }
 
@@ -810,7 +918,7 @@ mod tests {
     #[test]
     fn focal_open_list_matches_its_definition() {
         for weight in [1.0, 1.5, 2.0] {
-            let mut open = Open::new(weight);
+            let mut open = Open::new(weight, f64::INFINITY);
             let mut shadow: Vec<(f64, f64, usize, u64)> = Vec::new();
             let mut state = 0x9e37_79b9_7f4a_7c15u64;
             let mut next = || {

@@ -1,5 +1,6 @@
 //! Task layer: goals, the lattice search, baselines, the validator.
 
+mod anytime;
 mod baselines;
 mod basic;
 mod brute_force;
