@@ -185,6 +185,8 @@ impl Run<'_> {
         let mut first: Option<(PointCloud, Point3<f64>)> = None;
         let mut contact_post = None;
         let mut ee_poses: Vec<(f64, Isometry3<f64>)> = Vec::new();
+        // Where each grasp's poses begin in `ee_poses`.
+        let mut segments: Vec<usize> = Vec::new();
         let mut success = false;
         for _ in 0..s.max_attempts {
             let goal = LocalGoal {
@@ -215,7 +217,11 @@ impl Run<'_> {
                 world_from_base: b_pre,
                 first_grasp: first.as_ref().map(|(_, g)| *g),
             };
+            let seg = ee_poses.len();
             let result = attempt(&mut *self.robot, s, &input, &mut ee_poses)?;
+            if ee_poses.len() > seg {
+                segments.push(seg);
+            }
             if let (None, Some(g)) = (&first, result.grasp) {
                 first = Some((o_pre.clone(), g));
             }
@@ -291,7 +297,14 @@ impl Run<'_> {
             }
         };
         checked_cloud(&o_post, "post-interaction")?;
-        // PredArticulation.
+        // PredArticulation, on the end-effector path of one grasp.
+        if segments.len() > 1 {
+            stitch_grasps(&mut ee_poses, &segments);
+            entry.notes.push(format!(
+                "end-effector poses of {} grasps stitched into the first grasp's frame",
+                segments.len()
+            ));
+        }
         let interaction = Interaction {
             pre: &o_first,
             post: &o_post,
@@ -362,6 +375,30 @@ impl Run<'_> {
 }
 
 /// The log entry of an attempt that did not get to the grasp.
+/// Expresses the end-effector poses of every grasp after the first as if the first grasp
+/// still held: each later grasp `k` starts where the part was left by grasp `k − 1`, so with
+/// a rigid grasp `world_from_ee = part(θ)·G_k`, the last pose of grasp `k − 1` is
+/// `part(θ_k)·G_{k−1}` and the first of grasp `k` is `part(θ_k)·G_k`; right-multiplying grasp
+/// `k`'s poses by `first_k⁻¹·last_{k−1}` turns `part(θ)·G_k` into `part(θ)·G_{k−1}`.
+/// Applied in order, every pose becomes `part(θ)·G_1`: one rigid grasp, the estimators'
+/// model (a regrasp otherwise jumps the path and the orientation). Assumes the part does
+/// not move between the grasps. `starts`: the index where each grasp's poses begin,
+/// increasing, the first 0.
+pub(crate) fn stitch_grasps(poses: &mut [(f64, Isometry3<f64>)], starts: &[usize]) {
+    for (k, &start) in starts.iter().enumerate().skip(1) {
+        if start == 0 || start >= poses.len() {
+            continue;
+        }
+        let end = starts
+            .get(k + 1)
+            .map_or(poses.len(), |e| (*e).min(poses.len()));
+        let offset = poses[start].1.inverse() * poses[start - 1].1;
+        for (_, p) in &mut poses[start..end] {
+            *p *= offset;
+        }
+    }
+}
+
 fn skipped(world_from_base: Isometry2<f64>, end: AttemptEnd) -> AttemptLog {
     AttemptLog {
         world_from_base,
@@ -478,6 +515,51 @@ mod tests {
     use nalgebra::{Isometry2, Point3, Unit, Vector3};
 
     use super::*;
+
+    /// A door turning about the vertical line through (1, 2): grasp 1 holds it for
+    /// θ = 0 … 0.5 rad, grasp 2 (another point, another orientation) from θ = 0.5 to 1.0,
+    /// and grasp 3 from 1.0 to 1.2. Stitched, every pose is `part(θ)·G1` (the identity
+    /// derived in the function's docs).
+    #[test]
+    fn stitched_grasps_follow_the_first_grasp() {
+        let hinge = Vector3::new(1.0, 2.0, 0.0);
+        let part = |t: f64| {
+            Isometry3::translation(hinge.x, hinge.y, 0.0)
+                * Isometry3::rotation(Vector3::z() * t)
+                * Isometry3::translation(-hinge.x, -hinge.y, 0.0)
+        };
+        let g = [
+            Isometry3::new(Vector3::new(1.5, 2.0, 0.8), Vector3::new(0.0, 1.2, 0.0)),
+            Isometry3::new(Vector3::new(1.45, 2.05, 0.75), Vector3::new(0.3, 1.0, -0.2)),
+            Isometry3::new(Vector3::new(1.4, 1.95, 0.9), Vector3::new(-0.2, 1.4, 0.1)),
+        ];
+        let spans = [(0.0, 0.5), (0.5, 1.0), (1.0, 1.2)];
+        let mut poses = Vec::new();
+        let mut starts = Vec::new();
+        let mut thetas = Vec::new();
+        for (k, (a, b)) in spans.iter().enumerate() {
+            starts.push(poses.len());
+            for i in 0..=5 {
+                let t = a + (b - a) * f64::from(i) / 5.0;
+                poses.push((poses.len() as f64, part(t) * g[k]));
+                thetas.push(t);
+            }
+        }
+        stitch_grasps(&mut poses, &starts);
+        for ((_, p), t) in poses.iter().zip(&thetas) {
+            let want = part(*t) * g[0];
+            assert!(
+                (p.translation.vector - want.translation.vector).norm() < 1e-12,
+                "θ = {t}: {p} vs {want}"
+            );
+            assert!(p.rotation.angle_to(&want.rotation) < 1e-12, "θ = {t}");
+        }
+        // One grasp: nothing changes.
+        let mut one = poses[..6].to_vec();
+        let before = one.clone();
+        stitch_grasps(&mut one, &[0]);
+        assert_eq!(one, before);
+    }
 
     fn attempt(motion: MotionClass) -> AttemptLog {
         AttemptLog {

@@ -18,6 +18,10 @@ pub struct Interaction<'a> {
     /// `c_post` (grasp point after the pull), map frame, metres.
     pub contact_post: Point3<f64>,
     /// `(time s, world_from_ee)` recorded while pulling, times increasing; may be empty.
+    /// One rigid grasp: the discovery stage, when it regrasped between attempts, expresses the
+    /// later grasps' poses in the first grasp's frame (stitched where each grasp began,
+    /// assuming the part did not move in between), so the path is that of one point of the
+    /// part.
     pub ee_poses: &'a [(f64, Isometry3<f64>)],
 }
 
