@@ -168,6 +168,11 @@ fn pulled_drawer_moves_along_its_true_axis() {
         .expect("the drawer handle is reachable");
     assert!((ee0.translation.vector - p0.coords).norm() < 1e-3);
     let arm0 = world.clock().arm;
+    let base0 = world.clock().base;
+    // Table I's threshold: 5 cm, crossed during the third 2 cm pull (0.3 s each).
+    world.watch("drawer_top_slide", 0.05).expect("watch");
+    assert!(world.watch("no_such_joint", 0.05).is_err());
+    assert!(world.watch("drawer_top_slide", f64::NAN).is_err());
     let started = std::time::Instant::now();
     let steps = 10;
     for _ in 0..steps {
@@ -211,6 +216,13 @@ fn pulled_drawer_moves_along_its_true_axis() {
     // The compliant arm followed the grasp point.
     assert!((world.ee_pose().translation.vector - p1.coords).norm() < 2e-3);
     assert!((world.clock().arm - arm0 - steps as f64 * 0.3).abs() < 1e-9);
+    let at = world.threshold_reached().expect("the drawer moved 5 cm");
+    assert_eq!(at.base, base0);
+    assert!(
+        at.arm > arm0 + 0.6 && at.arm <= arm0 + 0.9 + 1e-9,
+        "5 cm reached at {} s after the grasp",
+        at.arm - arm0
+    );
 }
 
 #[test]

@@ -10,7 +10,7 @@ use kinscene::discovery::{
     Discovery, DiscoverySettings, MappedHandle, Outcome as HandleOutcome, Stage, discover,
 };
 use kinscene::kinematics::articulation::ArticulationEstimator;
-use kinscene::scene::{BaseMap, SceneModel};
+use kinscene::scene::{BaseMap, JointKind, SceneModel};
 use kinscene::task::{
     self, GoalSpec, NoRefinement, Outcome, Problem, Strategy, TaskSettings, Termination, validate,
 };
@@ -19,9 +19,12 @@ use super::PipelineError;
 use super::manipulation::{Attempt, Category, Planning, TrueGoal, plan_and_execute, translate};
 use super::matching::{MATCH_RADIUS, Match, PartAxis, kind_name, nearest_part};
 use super::sequences::{START_BASE, Sequence};
-use super::sim::SimWorld;
+use super::sim::{Clock, SimWorld};
 use super::stages::{Recorder, pose};
-use super::summary::{Fig6Row, HandleRow, SequenceCheck, Table1Row, TaskLevelRow, TypeCheck};
+use super::summary::{
+    Fig6Row, HandleRow, SequenceCheck, THRESHOLD_PRISMATIC, THRESHOLD_REVOLUTE, Table1Row,
+    TaskLevelRow, TypeCheck,
+};
 
 /// Random orders tried per sequence in the task-level check.
 const RANDOM_CHECKS: u64 = 12;
@@ -358,8 +361,18 @@ pub fn table1_part(
         base_time: None,
         arm_time: None,
         global_time: None,
+        to_threshold: None,
         note: String::new(),
     };
+    // The paper's execution time runs until the joint has moved 30° / 5 cm; every reset
+    // below starts the watch over.
+    let threshold = match t.kind {
+        JointKind::Revolute => THRESHOLD_REVOLUTE,
+        JointKind::Prismatic => THRESHOLD_PRISMATIC,
+    };
+    world.watch(joint, threshold)?;
+    let since =
+        |at: Option<Clock>, start: Clock| at.map(|c| (c.base - start.base, c.arm - start.arm));
     let mut rows = Vec::new();
     let mut approach = START_BASE;
     let mapped = c
@@ -391,6 +404,7 @@ pub fn table1_part(
                 approach = super::stages::pose_array(&p);
             }
             explored.global_time = legs.first().map(|l| l.after.base - l.before.base);
+            explored.to_threshold = since(world.threshold_reached(), after);
             explored.base_time = Some(end.base - after.base);
             explored.arm_time = Some(end.arm - after.arm);
             explored.reached = world.true_state().value(jid);
@@ -409,6 +423,8 @@ pub fn table1_part(
     };
     let mut attempts = Vec::new();
     let (est, matches) = c.estimated;
+    let mut starts = Vec::new();
+    starts.push(world.clock());
     let ours = match translate(truth_model, est, matches, &goal) {
         Ok(tr) => Some(plan_and_execute(
             c.planning,
@@ -426,8 +442,10 @@ pub fn table1_part(
             None
         }
     };
+    let ours_reached = world.threshold_reached();
     let problem = goal.true_problem(truth_model)?;
     let names: BTreeMap<String, String> = [(joint.to_string(), joint.to_string())].into();
+    starts.push(world.clock());
     let oracle = plan_and_execute(
         c.planning,
         world,
@@ -437,7 +455,11 @@ pub fn table1_part(
         &names,
         None,
     )?;
-    for (method, a) in [("Ours", ours), ("Oracle", Some(oracle))] {
+    let oracle_reached = world.threshold_reached();
+    for ((method, a), (start, at)) in [("Ours", ours), ("Oracle", Some(oracle))]
+        .into_iter()
+        .zip(starts.into_iter().zip([ours_reached, oracle_reached]))
+    {
         let Some((a, _)) = a else {
             continue;
         };
@@ -447,6 +469,7 @@ pub fn table1_part(
             r.reached = v.final_values.first().map(|x| x.1);
             r.base_time = Some(v.base_time);
             r.arm_time = Some(v.arm_time);
+            r.to_threshold = since(at, start);
         }
         if v.category != Category::Success {
             r.note = format!("{}: {}", v.category.name(), v.reason);

@@ -124,7 +124,7 @@ pub fn plots(report: &Report, outputs: &mut Outputs, notes: &mut Vec<String>) {
         put(
             "table1.svg",
             svg::bar_chart(
-                "Single-object manipulation (Table I): simulated execution time",
+                "Single-object manipulation (Table I): simulated time until 30° / 5 cm",
                 &categories,
                 &series,
                 "time (s)",

@@ -131,6 +131,10 @@ pub struct Table1Row {
     /// Exploration-only: simulated time of its global navigation from the start pose to the
     /// approach pose (s), not counted in `base_time`.
     pub global_time: Option<f64>,
+    /// The paper's execution time: simulated base and arm time (s) from the start of the
+    /// action (as `base_time`, `arm_time`) until the true joint first moved
+    /// [`THRESHOLD_REVOLUTE`] / [`THRESHOLD_PRISMATIC`]; `None` if it never did.
+    pub to_threshold: Option<(f64, f64)>,
     /// Why nothing or less was reached (empty when the target was reached).
     pub note: String,
 }
@@ -270,16 +274,30 @@ pub fn fig5_tally(rows: &[AttemptRow]) -> Vec<(Method, usize, BTreeMap<Category,
         .collect()
 }
 
-/// Table I summary per method: base, arm (rev), arm (pris), opening ratio (rev), (pris), rows.
+/// The paper's Table I threshold of a revolute joint: 30°.
+pub const THRESHOLD_REVOLUTE: f64 = std::f64::consts::PI / 6.0;
+/// The paper's Table I threshold of a prismatic joint: 5 cm.
+pub const THRESHOLD_PRISMATIC: f64 = 0.05;
+
+/// Table I summary per method: base, arm (rev), arm (pris) until the threshold (the paper's
+/// execution time), the same until the end of the action, opening ratio (rev), (pris), rows.
 pub struct Table1Summary {
     /// Method name.
     pub method: String,
-    /// Mean base time (s).
+    /// Mean base time until the threshold (s), over the measurements that reached it.
     pub base: Option<f64>,
-    /// Mean arm time, revolute (s).
+    /// Mean arm time until the threshold, revolute (s).
     pub arm_rev: Option<f64>,
-    /// Mean arm time, prismatic (s).
+    /// Mean arm time until the threshold, prismatic (s).
     pub arm_pris: Option<f64>,
+    /// Measurements that reached the threshold.
+    pub reached: usize,
+    /// Mean base time of the whole action (s).
+    pub total_base: Option<f64>,
+    /// Mean arm time of the whole action, revolute (s).
+    pub total_arm_rev: Option<f64>,
+    /// Mean arm time of the whole action, prismatic (s).
+    pub total_arm_pris: Option<f64>,
     /// Mean opening / target, revolute.
     pub open_rev: Option<f64>,
     /// Mean opening / target, prismatic.
@@ -301,9 +319,15 @@ pub fn table1_summary(rows: &[Table1Row]) -> Vec<Table1Summary> {
             let open = |k| mean(of(k).map(|r| r.reached.unwrap_or(0.0) / r.target));
             Some(Table1Summary {
                 method: m.to_string(),
-                base: mean(mine.iter().filter_map(|r| r.base_time)),
-                arm_rev: mean(of(JointKind::Revolute).filter_map(|r| r.arm_time)),
-                arm_pris: mean(of(JointKind::Prismatic).filter_map(|r| r.arm_time)),
+                base: mean(mine.iter().filter_map(|r| r.to_threshold.map(|t| t.0))),
+                arm_rev: mean(of(JointKind::Revolute).filter_map(|r| r.to_threshold.map(|t| t.1))),
+                arm_pris: mean(
+                    of(JointKind::Prismatic).filter_map(|r| r.to_threshold.map(|t| t.1)),
+                ),
+                reached: mine.iter().filter(|r| r.to_threshold.is_some()).count(),
+                total_base: mean(mine.iter().filter_map(|r| r.base_time)),
+                total_arm_rev: mean(of(JointKind::Revolute).filter_map(|r| r.arm_time)),
+                total_arm_pris: mean(of(JointKind::Prismatic).filter_map(|r| r.arm_time)),
                 open_rev: open(JointKind::Revolute),
                 open_pris: open(JointKind::Prismatic),
                 n: mine.len(),
@@ -378,10 +402,20 @@ impl Report {
         })
     }
 
-    /// Ratio of Exploration-only's mean base time to Ours' (Table I), if both ran.
+    /// Ratio of Exploration-only's mean base time to Ours' until the threshold (Table I, the
+    /// paper's execution time), if both ran and reached it.
     pub fn base_ratio(&self) -> Option<f64> {
+        self.ratio(|r| r.base)
+    }
+
+    /// The same ratio over the whole actions.
+    pub fn total_base_ratio(&self) -> Option<f64> {
+        self.ratio(|r| r.total_base)
+    }
+
+    fn ratio(&self, f: impl Fn(&Table1Summary) -> Option<f64>) -> Option<f64> {
         let s = table1_summary(&self.table1);
-        let get = |m: &str| s.iter().find(|r| r.method == m).and_then(|r| r.base);
+        let get = |m: &str| s.iter().find(|r| r.method == m).and_then(&f);
         match (get("Exploration-only"), get("Ours")) {
             (Some(e), Some(o)) if o > 0.0 => Some(e / o),
             _ => None,

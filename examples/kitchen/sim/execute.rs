@@ -10,7 +10,7 @@ use super::hardware::{GRASP_TOLERANCE, RELEASE_SETTLE, SLIP_DISTANCE};
 use super::physics::DT;
 use super::robot::pose_of;
 use super::sensors::Owner;
-use super::{ExecFailure, FailureCategory, SimWorld, StepExecution};
+use super::{Clock, ExecFailure, FailureCategory, SimWorld, StepExecution};
 
 /// Collision checks along the base path every this long (s): 2 cm at 0.5 m/s.
 const BASE_TICK: f64 = 0.04;
@@ -250,6 +250,10 @@ impl SimWorld {
             self.physics.move_links(&poses);
             self.physics.step();
             self.robot.arm = q;
+            self.check_watch(Clock {
+                base: exec.base_time,
+                arm: exec.arm_time + t,
+            });
             if let Some(hit) = self.physics.moving_contact(&moving) {
                 exec.arm_time += t;
                 let what = match (hit.other, hit.base_shape) {

@@ -5,10 +5,10 @@ use kinscene::discovery::{Hardware, HardwareFailure, LocalGoal};
 use kinscene::scene::nav::occupancy;
 use nalgebra::{Isometry2, Isometry3, Point2, Point3, Translation3, Unit, Vector2, Vector3};
 
-use super::SimWorld;
 use super::navigation::route;
 use super::physics::DT;
 use super::robot::base_of;
+use super::{Clock, SimWorld};
 
 /// The gripper closes on a true handle within this distance (m) of the tool point.
 pub(super) const GRASP_TOLERANCE: f64 = 0.035;
@@ -224,6 +224,11 @@ impl SimWorld {
             }
             self.physics.move_links(&links);
             self.physics.step();
+            // The clock already holds the whole pull.
+            self.check_watch(Clock {
+                base: 0.0,
+                arm: i as f64 * DT - (PULL_MOVE + PULL_HOLD),
+            });
         }
         if self
             .physics

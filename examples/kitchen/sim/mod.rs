@@ -229,6 +229,17 @@ pub struct SimWorld {
     sensing: f64,
     trace: Vec<Isometry2<f64>>,
     rng: ChaCha8Rng,
+    watch: Option<Watch>,
+}
+
+/// A joint watched for the paper's Table I threshold: when its true value first differs from
+/// `from` by `threshold`, the clock then is recorded (see [`SimWorld::watch`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Watch {
+    part: usize,
+    from: f64,
+    threshold: f64,
+    reached: Option<Clock>,
 }
 
 impl SimWorld {
@@ -268,6 +279,7 @@ impl SimWorld {
             physics,
             robot,
             clock: Clock::default(),
+            watch: None,
             sensing: 0.0,
             trace: vec![start],
         };
@@ -307,6 +319,11 @@ impl SimWorld {
         }
         self.physics.detach();
         self.physics.set_values(state.as_slice());
+        // A watch starts over from the reset state.
+        if let Some(w) = self.watch.as_mut() {
+            w.from = state.as_slice()[w.part];
+            w.reached = None;
+        }
         self.robot.base = b;
         self.robot.arm = self.robot.stow.clone();
         self.sync_robot()?;
@@ -324,6 +341,58 @@ impl SimWorld {
     /// Simulated execution time so far.
     pub fn clock(&self) -> Clock {
         self.clock
+    }
+
+    /// Watches `joint` (a true joint): the simulated clock at the physics step where its true
+    /// value first differs from its value now by at least `threshold` (rad or m) is kept for
+    /// [`threshold_reached`](Self::threshold_reached) (the paper's Table I times the actions
+    /// up to 30° / 5 cm). Pulls (exploration) and planned manipulations are watched, at the
+    /// physics step (1/120 s); replaces an earlier watch, and a [`reset`](Self::reset) starts
+    /// it over from the reset state.
+    ///
+    /// # Errors
+    /// [`SimError::Setup`] for an unknown joint or a threshold that is not finite and positive.
+    pub fn watch(&mut self, joint: &str, threshold: f64) -> Result<(), SimError> {
+        let id = self
+            .truth
+            .joint_id(joint)
+            .map_err(|e| SimError::Setup(format!("watch: {e}")))?;
+        if !(threshold.is_finite() && threshold > 0.0) {
+            return Err(SimError::Setup(format!(
+                "watch threshold {threshold} is not finite and positive"
+            )));
+        }
+        let from = self.physics.values()[id.index()];
+        self.watch = Some(Watch {
+            part: id.index(),
+            from,
+            threshold,
+            reached: None,
+        });
+        Ok(())
+    }
+
+    /// The clock when the watched joint reached its threshold, if it did.
+    pub fn threshold_reached(&self) -> Option<Clock> {
+        self.watch.and_then(|w| w.reached)
+    }
+
+    /// Records the watched joint's threshold crossing at the clock plus `extra` (the time of
+    /// the current action not yet added to the clock).
+    fn check_watch(&mut self, extra: Clock) {
+        let Some(w) = self.watch.as_mut() else {
+            return;
+        };
+        if w.reached.is_some() {
+            return;
+        }
+        let v = self.physics.values()[w.part];
+        if (v - w.from).abs() >= w.threshold {
+            w.reached = Some(Clock {
+                base: self.clock.base + extra.base,
+                arm: self.clock.arm + extra.arm,
+            });
+        }
     }
 
     /// The base poses the robot drove through since the last `reset` (for the top view).
