@@ -587,14 +587,14 @@ pub(crate) fn run(
             if termination.should_stop() {
                 stats.elapsed = started.elapsed();
                 stats.vetoes = caches.vetoes;
-                // The round's open items are all gone: no lower bound below the cap left
-                // to report, so the incumbent keeps the factor it had.
+                // Items are left open when the round gave way early to grow the active set;
+                // when it was exhausted there are none below the cap.
                 return Ok(stopped(
                     model,
                     problem,
                     incumbent,
                     best_partial,
-                    f64::INFINITY,
+                    heap.least_f(),
                     stats,
                 ));
             }
@@ -618,14 +618,7 @@ pub(crate) fn run(
             stats.vetoes = caches.vetoes;
             if let Some(inc) = incumbent {
                 // No plan below the incumbent's cost over the active joints: it is minimal.
-                stats.suboptimality = Some(1.0);
-                return Ok(PlanResult {
-                    outcome: Outcome::Solved(Plan {
-                        steps: inc.steps,
-                        cost: inc.cost,
-                    }),
-                    stats,
-                });
+                return Ok(inc.solved(1.0, stats));
             }
             let why = infeasibility(
                 model,
@@ -719,6 +712,20 @@ struct Incumbent {
     factor: f64,
 }
 
+impl Incumbent {
+    /// The incumbent as the search's result, proven within `factor`.
+    fn solved(self, factor: f64, mut stats: SearchStats) -> PlanResult {
+        stats.suboptimality = Some(factor);
+        PlanResult {
+            outcome: Outcome::Solved(Plan {
+                steps: self.steps,
+                cost: self.cost,
+            }),
+            stats,
+        }
+    }
+}
+
 /// The result when the budget or the cancel flag stops the search: the incumbent, proven
 /// within the smaller of its factor and its cost over `least` (the least open lower bound,
 /// `+∞` if none is known), or else the partial plan.
@@ -728,7 +735,7 @@ fn stopped(
     incumbent: Option<Incumbent>,
     best_partial: Option<Best>,
     least: f64,
-    mut stats: SearchStats,
+    stats: SearchStats,
 ) -> PlanResult {
     match incumbent {
         Some(inc) => {
@@ -737,14 +744,7 @@ fn stopped(
             } else {
                 inc.factor.min(inc.cost / least)
             };
-            stats.suboptimality = Some(factor);
-            PlanResult {
-                outcome: Outcome::Solved(Plan {
-                    steps: inc.steps,
-                    cost: inc.cost,
-                }),
-                stats,
-            }
+            inc.solved(factor, stats)
         }
         None => PlanResult {
             outcome: Outcome::Timeout(partial_plan(model, problem, best_partial)),

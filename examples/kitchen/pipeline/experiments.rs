@@ -423,8 +423,7 @@ pub fn table1_part(
     };
     let mut attempts = Vec::new();
     let (est, matches) = c.estimated;
-    let mut starts = Vec::new();
-    starts.push(world.clock());
+    let ours_start = world.clock();
     let ours = match translate(truth_model, est, matches, &goal) {
         Ok(tr) => Some(plan_and_execute(
             c.planning,
@@ -445,7 +444,7 @@ pub fn table1_part(
     let ours_reached = world.threshold_reached();
     let problem = goal.true_problem(truth_model)?;
     let names: BTreeMap<String, String> = [(joint.to_string(), joint.to_string())].into();
-    starts.push(world.clock());
+    let oracle_start = world.clock();
     let oracle = plan_and_execute(
         c.planning,
         world,
@@ -456,10 +455,10 @@ pub fn table1_part(
         None,
     )?;
     let oracle_reached = world.threshold_reached();
-    for ((method, a), (start, at)) in [("Ours", ours), ("Oracle", Some(oracle))]
-        .into_iter()
-        .zip(starts.into_iter().zip([ours_reached, oracle_reached]))
-    {
+    for (method, a, start, at) in [
+        ("Ours", ours, ours_start, ours_reached),
+        ("Oracle", Some(oracle), oracle_start, oracle_reached),
+    ] {
         let Some((a, _)) = a else {
             continue;
         };

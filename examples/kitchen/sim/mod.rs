@@ -362,7 +362,7 @@ impl SimWorld {
                 "watch threshold {threshold} is not finite and positive"
             )));
         }
-        let from = self.physics.values()[id.index()];
+        let from = self.physics.value(id.index());
         self.watch = Some(Watch {
             part: id.index(),
             from,
@@ -386,7 +386,7 @@ impl SimWorld {
         if w.reached.is_some() {
             return;
         }
-        let v = self.physics.values()[w.part];
+        let v = self.physics.value(w.part);
         if (v - w.from).abs() >= w.threshold {
             w.reached = Some(Clock {
                 base: self.clock.base + extra.base,

@@ -448,23 +448,26 @@ impl Physics {
 
     /// The joint values (one per part, model order): the multibody coordinates.
     pub(super) fn values(&self) -> Vec<f64> {
-        self.parts
-            .iter()
-            .map(|p| {
-                self.world
-                    .multibody_joints
-                    .get(p.joint)
-                    .and_then(|(mb, link)| mb.link(link))
-                    .map(|l| {
-                        let coords = l.joint.coords();
-                        match p.kind {
-                            JointKind::Revolute => coords[3],
-                            JointKind::Prismatic => coords[0],
-                        }
-                    })
-                    .unwrap_or(f64::NAN)
+        (0..self.parts.len()).map(|k| self.value(k)).collect()
+    }
+
+    /// The joint value of part `k` (NaN for a part the physics lost or an index out of range).
+    pub(super) fn value(&self, k: usize) -> f64 {
+        let Some(p) = self.parts.get(k) else {
+            return f64::NAN;
+        };
+        self.world
+            .multibody_joints
+            .get(p.joint)
+            .and_then(|(mb, link)| mb.link(link))
+            .map(|l| {
+                let coords = l.joint.coords();
+                match p.kind {
+                    JointKind::Revolute => coords[3],
+                    JointKind::Prismatic => coords[0],
+                }
             })
-            .collect()
+            .unwrap_or(f64::NAN)
     }
 
     /// The world pose of part `k` (its frame).
