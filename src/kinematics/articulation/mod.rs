@@ -37,6 +37,6 @@ pub use estimate::{
     ArticulationEstimator, Estimate, Interaction, JointEstimate, JointKindEstimate,
 };
 pub use metrics::{axis_angle_error, axis_position_error, joint_type_accuracy};
-pub use proprioceptive::{Proprioceptive, ProprioceptiveSettings};
+pub use proprioceptive::{OrientationModel, Proprioceptive, ProprioceptiveSettings};
 pub use screw::Screw;
 pub use two_view::{TwoView, TwoViewSettings};

@@ -3,9 +3,12 @@
 //!
 //! Model: pose `i` is `Rot(ω, φᵢ)` about the line `(c, ω)` applied to a grasp pose, i.e.
 //! position `c + Rot(ω, φᵢ) g` and orientation `Rot(ω, φᵢ) R_g`. Residuals: position error / σ_p
-//! (3 per pose) and, with orientations, the rotation-vector error / σ_o (3 per pose).
+//! (3 per pose) and, with orientations, the rotation-vector error / σ_o (3 per pose) of a rigid
+//! grasp or the approach (tool z) axis error / σ_o (3 per pose, rank 2) of a compliant one.
 
 use nalgebra::{DMatrix, DVector, Isometry3, Point3, Unit, UnitQuaternion, Vector3};
+
+use super::proprioceptive::OrientationModel;
 
 /// A revolute model in the parametrisation above.
 #[derive(Debug, Clone, Copy)]
@@ -25,7 +28,8 @@ pub(crate) fn refine(
     phi: &[f64],
     poses: &[Isometry3<f64>],
     sigma_p: f64,
-    sigma_o: Option<f64>,
+    orientation: OrientationModel,
+    sigma_o: f64,
 ) -> Option<PoseCircle> {
     let n = poses.len();
     let (e1, e2) = {
@@ -51,7 +55,11 @@ pub(crate) fn refine(
             grasp,
         }
     };
-    let per = if sigma_o.is_some() { 6 } else { 3 };
+    let per = if orientation == OrientationModel::Ignored {
+        3
+    } else {
+        6
+    };
     let residual = |x: &DVector<f64>| {
         let m = unpack(x);
         let mut r = DVector::zeros(n * per + 1);
@@ -60,10 +68,16 @@ pub(crate) fn refine(
             let p = m.center + rot * m.offset;
             let e = (pose.translation.vector - p.coords) / sigma_p;
             r.fixed_rows_mut::<3>(k * per).copy_from(&e);
-            if let Some(so) = sigma_o {
-                let d = (pose.rotation * (rot * m.grasp).inverse()).scaled_axis() / so;
-                r.fixed_rows_mut::<3>(k * per + 3).copy_from(&d);
-            }
+            let d = match orientation {
+                OrientationModel::Ignored => continue,
+                OrientationModel::Rigid => {
+                    (pose.rotation * (rot * m.grasp).inverse()).scaled_axis()
+                }
+                OrientationModel::ApproachAxis => {
+                    pose.rotation * Vector3::z() - rot * m.grasp * Vector3::z()
+                }
+            };
+            r.fixed_rows_mut::<3>(k * per + 3).copy_from(&(d / sigma_o));
         }
         // Gauge: the centre may slide along the axis with the offset; pin it weakly.
         r[n * per] = m.axis.dot(&(m.center - init.center)) / 10.0;

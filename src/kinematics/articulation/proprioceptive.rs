@@ -21,9 +21,9 @@ pub struct ProprioceptiveSettings {
     pub position_sigma: f64,
     /// Standard deviation of end-effector orientation noise (inlier model).
     pub orientation_sigma: f64,
-    /// Whether the orientations enter the likelihood (a revolute joint turns a rigidly grasping
-    /// end effector by the joint angle; a prismatic one does not turn it).
-    pub use_orientation: bool,
+    /// How much of the end effector's orientation follows the part (a revolute joint turns a
+    /// held end effector by the joint angle; a prismatic one does not turn it).
+    pub orientation: OrientationModel,
     /// Radius of the uniform outlier density of position residuals.
     pub outlier_range: f64,
     /// MLESAC hypotheses per model.
@@ -36,12 +36,49 @@ pub struct ProprioceptiveSettings {
     pub min_motion: f64,
 }
 
+/// Which part of the recorded end-effector orientations the estimator trusts to follow the part.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum OrientationModel {
+    /// Positions only.
+    Ignored,
+    /// The tool z axis (the approach direction) turns with the part; the roll about it is free.
+    /// This is what a compliance controller that keeps pulling along the front's normal
+    /// guarantees (the paper's exploration, and [`crate::discovery`]'s): soft fingers and a
+    /// re-solved arm let the wrist roll while the approach stays normal to the front. The
+    /// default, since a rigid grasp satisfies it too.
+    #[default]
+    ApproachAxis,
+    /// The whole orientation turns with the part (a rigid grasp). Under a compliant grasp the
+    /// wrist's free roll then tilts the fitted axis.
+    Rigid,
+}
+
+impl OrientationModel {
+    /// Free parameters of the grasp orientation offset.
+    fn parameters(self) -> f64 {
+        match self {
+            OrientationModel::Ignored => 0.0,
+            OrientationModel::ApproachAxis => 2.0,
+            OrientationModel::Rigid => 3.0,
+        }
+    }
+
+    /// The angle between two end-effector orientations that this model compares.
+    fn angle(self, a: &UnitQuaternion<f64>, b: &UnitQuaternion<f64>) -> f64 {
+        match self {
+            OrientationModel::Ignored => 0.0,
+            OrientationModel::ApproachAxis => (a * Vector3::z()).angle(&(b * Vector3::z())),
+            OrientationModel::Rigid => a.angle_to(b),
+        }
+    }
+}
+
 impl Default for ProprioceptiveSettings {
     fn default() -> Self {
         ProprioceptiveSettings {
             position_sigma: 0.005,
             orientation_sigma: 0.05,
-            use_orientation: true,
+            orientation: OrientationModel::ApproachAxis,
             outlier_range: 0.5,
             iterations: 200,
             seed: 0,
@@ -145,8 +182,8 @@ fn basis(n: &Unit<Vector3<f64>>) -> (Vector3<f64>, Vector3<f64>) {
 
 impl Model {
     /// Number of free parameters (orientation offset included when used).
-    fn parameters(&self, orientation: bool) -> f64 {
-        let extra = if orientation { 3.0 } else { 0.0 };
+    fn parameters(&self, orientation: OrientationModel) -> f64 {
+        let extra = orientation.parameters();
         match self {
             Model::Line { .. } => 4.0 + extra,
             Model::Circle { .. } => 6.0 + extra,
@@ -176,8 +213,8 @@ impl Model {
     }
 
     /// Position residual (m, 2-d: perpendicular to the line / off the circle) and orientation
-    /// residual (rad).
-    fn residual(&self, pose: &Isometry3<f64>) -> (f64, f64) {
+    /// residual (rad) under `orientation`.
+    fn residual(&self, pose: &Isometry3<f64>, orientation: OrientationModel) -> (f64, f64) {
         let p = Point3::from(pose.translation.vector);
         let r = match self {
             Model::Line { point, dir, .. } => {
@@ -196,7 +233,7 @@ impl Model {
                 ((rho - radius).powi(2) + h * h).sqrt()
             }
         };
-        (r, self.orientation(&p).angle_to(&pose.rotation))
+        (r, orientation.angle(&self.orientation(&p), &pose.rotation))
     }
 }
 
@@ -204,20 +241,20 @@ impl Model {
 struct Likelihood {
     sigma: f64,
     sigma_rot: f64,
-    orientation: bool,
+    orientation: OrientationModel,
     outlier: f64,
 }
 
 impl Likelihood {
     fn new(s: &ProprioceptiveSettings) -> Self {
         let mut outlier = 1.0 / (PI * s.outlier_range * s.outlier_range);
-        if s.use_orientation {
+        if s.orientation != OrientationModel::Ignored {
             outlier /= PI;
         }
         Likelihood {
             sigma: s.position_sigma,
             sigma_rot: s.orientation_sigma,
-            orientation: s.use_orientation,
+            orientation: s.orientation,
             outlier,
         }
     }
@@ -226,7 +263,7 @@ impl Likelihood {
     fn inlier(&self, (r, a): (f64, f64)) -> f64 {
         let s2 = self.sigma * self.sigma;
         let mut f = (-r * r / (2.0 * s2)).exp() / (2.0 * PI * s2);
-        if self.orientation {
+        if self.orientation != OrientationModel::Ignored {
             let t2 = self.sigma_rot * self.sigma_rot;
             f *= (2.0 / PI).sqrt() / self.sigma_rot * (-a * a / (2.0 * t2)).exp();
         }
@@ -237,7 +274,7 @@ impl Likelihood {
     fn evaluate(&self, model: &Model, poses: &[Isometry3<f64>]) -> (f64, Vec<f64>) {
         let f: Vec<f64> = poses
             .iter()
-            .map(|p| self.inlier(model.residual(p)))
+            .map(|p| self.inlier(model.residual(p, self.orientation)))
             .collect();
         let mut gamma = 0.5;
         let mut post = vec![0.0; f.len()];
@@ -276,12 +313,15 @@ struct Fit {
 ///    components off the axis), its centre and radius by a geometric circle fit in the plane,
 ///    then all of it jointly by maximum likelihood (Levenberg–Marquardt over axis, centre, grasp
 ///    offset and one latent angle per pose, with position and orientation residuals).
-/// 2. `BIC = −2 log L + k ln n` (k = 4 line, 6 circle, +3 grasp orientation when orientations are
-///    used); the lower wins.
+/// 2. `BIC = −2 log L + k ln n` (k = 4 line, 6 circle, + 3 grasp orientation parameters with
+///    [`OrientationModel::Rigid`], + 2 with [`OrientationModel::ApproachAxis`]); the lower wins.
+///    With the approach axis only, the orientation terms above use the angle between approach
+///    axes, and the axis scatter the approach axes' differences (perpendicular to the joint
+///    axis) in place of the relative rotation vectors (along it).
 /// 3. Fewer than `min_poses` poses, positions spanning less than `min_motion`, a winner that
 ///    explains fewer than half the poses, or a winner whose fitted travel (distance along the
-///    line, arc length on the circle) between the first and last inliers is below `min_motion`
-///    give `Unknown`.
+///    line, arc length on the circle) or whose straight distance between the first and last
+///    inliers is below `min_motion` give `Unknown`.
 fn estimate(s: &ProprioceptiveSettings, i: &Interaction<'_>) -> Estimate {
     let poses: Vec<Isometry3<f64>> = i.ee_poses.iter().map(|(_, p)| *p).collect();
     let n = poses.len();
@@ -345,7 +385,7 @@ fn estimate(s: &ProprioceptiveSettings, i: &Interaction<'_>) -> Estimate {
             (model, log_l) = (refined, l);
         }
         let (_, post) = lik.evaluate(&model, &poses);
-        let bic = -2.0 * log_l + model.parameters(s.use_orientation) * (n as f64).ln();
+        let bic = -2.0 * log_l + model.parameters(s.orientation) * (n as f64).ln();
         fits.push(Fit {
             model,
             log_l,
@@ -395,6 +435,18 @@ fn estimate(s: &ProprioceptiveSettings, i: &Interaction<'_>) -> Estimate {
             details: details.clone(),
             ..Estimate::unknown(format!(
                 "too little motion: the fitted joint moves the end effector {travel:.4} m (need {} m)",
+                s.min_motion
+            ))
+        };
+    }
+    // A circle fitted to noise about one spot can "sweep" any angle (about the approach axis
+    // the orientations cannot object); an exploration pulls the end effector away.
+    let chord = (last - first).norm();
+    if chord < s.min_motion {
+        return Estimate {
+            details: details.clone(),
+            ..Estimate::unknown(format!(
+                "too little motion: the end effector ended {chord:.4} m from where it began (need {} m)",
                 s.min_motion
             ))
         };
@@ -516,18 +568,35 @@ fn refine_circle(
         let d = p - c;
         m += d * d.transpose() / (s.position_sigma * s.position_sigma);
     }
-    if s.use_orientation {
-        let mut so = Matrix3::zeros();
-        for (x, &a) in inl.iter().enumerate() {
-            for &b in &inl[x + 1..] {
-                let v = (poses[b].rotation * poses[a].rotation.inverse()).scaled_axis();
-                so += v * v.transpose();
+    match s.orientation {
+        OrientationModel::Ignored => {}
+        OrientationModel::Rigid => {
+            // Relative rotations are about the axis: it is least off their rotation vectors.
+            let mut so = Matrix3::zeros();
+            for (x, &a) in inl.iter().enumerate() {
+                for &b in &inl[x + 1..] {
+                    let v = (poses[b].rotation * poses[a].rotation.inverse()).scaled_axis();
+                    so += v * v.transpose();
+                }
             }
+            // The pairs are not independent; scale to one pair per pose.
+            let scale = 2.0 / (inl.len() as f64 - 1.0).max(1.0);
+            m += (Matrix3::identity() * so.trace() - so) * scale
+                / (s.orientation_sigma * s.orientation_sigma);
         }
-        // The pairs are not independent; scale to one pair per pose.
-        let scale = 2.0 / (inl.len() as f64 - 1.0).max(1.0);
-        m += (Matrix3::identity() * so.trace() - so) * scale
-            / (s.orientation_sigma * s.orientation_sigma);
+        OrientationModel::ApproachAxis => {
+            // The approach axis sweeps a cone about the joint axis: their differences are
+            // perpendicular to it, as the positions' are.
+            let mut sz = Matrix3::zeros();
+            for (x, &a) in inl.iter().enumerate() {
+                for &b in &inl[x + 1..] {
+                    let d = poses[b].rotation * Vector3::z() - poses[a].rotation * Vector3::z();
+                    sz += d * d.transpose();
+                }
+            }
+            let scale = 2.0 / (inl.len() as f64 - 1.0).max(1.0);
+            m += sz * scale / (s.orientation_sigma * s.orientation_sigma);
+        }
     }
     let eig = m.symmetric_eigen();
     let low = (0..3).min_by(|&x, &y| eig.eigenvalues[x].total_cmp(&eig.eigenvalues[y]))?;
@@ -564,8 +633,14 @@ fn refine_circle(
         .map(|&k| model.phase(&position(&poses[k])))
         .collect();
     let sub: Vec<Isometry3<f64>> = inl.iter().map(|&k| poses[k]).collect();
-    let sigma_o = s.use_orientation.then_some(s.orientation_sigma);
-    let Some(ml) = pose_circle::refine(&init, &phi, &sub, s.position_sigma, sigma_o) else {
+    let Some(ml) = pose_circle::refine(
+        &init,
+        &phi,
+        &sub,
+        s.position_sigma,
+        s.orientation,
+        s.orientation_sigma,
+    ) else {
         return Some(model);
     };
     let axial = ml.axis.dot(&ml.offset);
