@@ -179,7 +179,8 @@ impl ArticulationEstimator for TwoView {
 ///    to the post segment's normal combined with the contact translation. The lower truncated
 ///    cost wins.
 /// 4. **Model selection.** From the rigid motion, ICP fits the two joint models (pure rotation
-///    about a line, 5 parameters; pure translation, 3 parameters); each gets
+///    about a line, 5 parameters; pure translation, 3 parameters, also from the contact's
+///    shift, the lower cost kept); each gets
 ///    `BIC = n ln(RSS/N) + k ln n` from the mean truncated squared residual `RSS/N` of the `N`
 ///    part points, where `n` counts the `τ`-voxels the part occupies (neighbouring residuals are
 ///    correlated, so `N` would overstate the evidence); the lower BIC wins, unless the
@@ -316,7 +317,13 @@ fn estimate(s: &TwoViewSettings, i: &Interaction<'_>) -> Estimate {
     let n_eff = voxels.len().max(1) as f64;
     let bic = |cost: f64, k: f64| n_eff * cost.max(1e-12).ln() + k * n_eff.ln();
     let rotation = fit(rigid.motion, MotionModel::Rotation);
-    let translation = fit(rigid.motion, MotionModel::Translation);
+    // The translation also starts from the contact's shift: a rigid fit that turned the part
+    // (a drawer's front mapped onto its own top, say) can leave the translation from its
+    // motion without correspondences.
+    let translation = [rigid.motion, inits[0]]
+        .into_iter()
+        .filter_map(|init| fit(init, MotionModel::Translation))
+        .min_by(|a, b| a.cost.total_cmp(&b.cost));
     // Both models are scored on all part points, not the ICP subset.
     let full_cost =
         |r: &Registration| truncated_cost(&source, &post_tree, &r.motion, icp_settings.stages[2]);
