@@ -48,6 +48,14 @@ struct Args {
     /// Position noise of the handle detector (m, standard deviation).
     #[arg(long, default_value_t = 0.01)]
     detector_noise: f64,
+    /// The soft fingers' deflection from one pull step to the next (m, standard deviation per
+    /// axis).
+    #[arg(long, default_value_t = 0.001)]
+    grasp_deflection: f64,
+    /// The soft fingers' tilt of the approach axis from one pull step to the next (degrees,
+    /// standard deviation).
+    #[arg(long, default_value_t = 1.0)]
+    grasp_tilt: f64,
     /// Probability of each injected fault (grasp slip, early joint limit, tracker loss).
     #[arg(long, default_value_t = 0.0)]
     fault_rate: f64,
@@ -112,6 +120,8 @@ fn config(args: &Args) -> Result<Config, pipeline::PipelineError> {
         runs: args.runs.unwrap_or(base.runs),
         depth_noise: args.depth_noise,
         detector_noise: args.detector_noise,
+        grasp_deflection: args.grasp_deflection,
+        grasp_tilt: args.grasp_tilt.to_radians(),
         fault_rate: args.fault_rate,
         experiments: Experiment::parse_list(&args.experiments)?,
         estimator: EstimatorChoice::parse(&args.estimator)?,

@@ -29,7 +29,7 @@ use nalgebra::{
 };
 
 use super::sim::sensors::Owner;
-use super::sim::{FailureCategory, Faults, SimSettings, SimWorld};
+use super::sim::{FailureCategory, Faults, GraspCompliance, SimSettings, SimWorld};
 
 fn kitchen() -> SceneModel {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/kitchen.urdf");
@@ -159,7 +159,12 @@ fn reset_teleports_and_parts_stay_where_left() {
 fn pulled_drawer_moves_along_its_true_axis() {
     let truth = kitchen();
     // Beside the drawer in the passage, facing +x: the handle is 0.4 m ahead, 0.41 m left.
-    let mut world = world_at(&truth, pose(1.0, 1.95, 0.0), SimSettings::default());
+    // Stiff fingers: the tool stays on the grasp point.
+    let stiff = SimSettings {
+        grasp: GraspCompliance::none(),
+        ..SimSettings::default()
+    };
+    let mut world = world_at(&truth, pose(1.0, 1.95, 0.0), stiff);
     let zero = truth.zero_state();
     let (p0, n0) = handle_at(&truth, &zero, "drawer_top_handle");
     assert!((p0 - Point3::new(1.4, 2.3595, 0.74)).norm() < 1e-9);
@@ -223,6 +228,40 @@ fn pulled_drawer_moves_along_its_true_axis() {
         "5 cm reached at {} s after the grasp",
         at.arm - arm0
     );
+}
+
+/// Soft fingers (σ 5 mm per axis, 3° tilt per perpendicular axis, drawn per pull step) leave
+/// the tool off the drawer handle it holds by about σ·E|χ₃| = 8.0 mm and tilt its approach
+/// axis off the front's normal by about 3°·E|χ₂| = 3.8° on average (the means of a
+/// 3-d and a 2-d Gaussian's norms); the bounds below are half and twice those.
+#[test]
+fn soft_fingers_leave_the_tool_off_the_grasp_point() {
+    let truth = kitchen();
+    let soft = SimSettings {
+        grasp: GraspCompliance {
+            deflection: 0.005,
+            tilt: 3f64.to_radians(),
+        },
+        ..SimSettings::default()
+    };
+    let mut world = world_at(&truth, pose(1.0, 1.95, 0.0), soft);
+    let (p0, n0) = handle_at(&truth, &truth.zero_state(), "drawer_top_handle");
+    world
+        .grasp(&p0, &Unit::new_normalize(-n0))
+        .expect("the drawer handle is reachable");
+    let (mut offset, mut tilt) = (0.0, 0.0);
+    let steps = 8;
+    for _ in 0..steps {
+        let ee = world
+            .pull_step(&Unit::new_normalize(n0), 0.02)
+            .expect("pull");
+        let (p, n) = handle_at(&truth, &world.true_state(), "drawer_top_handle");
+        offset += (ee.translation.vector - p.coords).norm() / steps as f64;
+        tilt += (ee.rotation * Vector3::z()).angle(&-n).to_degrees() / steps as f64;
+    }
+    assert!((0.004..0.016).contains(&offset), "mean offset {offset} m");
+    assert!((1.9..7.6).contains(&tilt), "mean tilt {tilt}°");
+    assert!(value(&truth, &world.true_state(), "drawer_top_slide") > 0.1);
 }
 
 #[test]
@@ -887,6 +926,28 @@ fn faults_fire_at_rate_one_and_settings_are_checked() {
         )
         .is_err()
     );
+    for grasp in [
+        GraspCompliance {
+            deflection: f64::NAN,
+            tilt: 0.0,
+        },
+        GraspCompliance {
+            deflection: 0.0,
+            tilt: -0.1,
+        },
+    ] {
+        let bad = SimSettings {
+            grasp,
+            ..SimSettings::default()
+        };
+        let world = SimWorld::new(
+            &truth,
+            &RobotModel::kinova_gen3_mobile(),
+            pose(0.0, 0.0, 0.0),
+            bad,
+        );
+        assert!(matches!(world, Err(e) if e.to_string().contains("grasp compliance")));
+    }
     let nan = pose(f64::NAN, 0.0, 0.0);
     assert!(
         SimWorld::new(

@@ -6,7 +6,7 @@ use kinscene::discovery::DiscoverySettings;
 use kinscene::kinematics::articulation::{ArticulationEstimator, Proprioceptive, TwoView};
 use serde::{Deserialize, Serialize};
 
-use super::PipelineError;
+use super::{PipelineError, sim};
 
 /// One experiment of the paper (or the task-level section kept from the old example).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
@@ -176,6 +176,14 @@ pub struct Config {
     pub depth_noise: f64,
     /// Position noise of the handle detector (m, standard deviation per axis), in [0, 0.1].
     pub detector_noise: f64,
+    /// The soft fingers' deflection under a pull (m, standard deviation per axis of the tool's
+    /// offset from the grasp point), in [0, 0.05].
+    #[serde(default = "default_grasp_deflection")]
+    pub grasp_deflection: f64,
+    /// The soft fingers' tilt of the approach axis under a pull (rad, standard deviation), in
+    /// [0, 0.2].
+    #[serde(default = "default_grasp_tilt")]
+    pub grasp_tilt: f64,
     /// Probability of each injected fault (grasp slip, early joint limit, tracker loss; local
     /// navigation drift 5 cm · rate), in [0, 1].
     pub fault_rate: f64,
@@ -232,9 +240,18 @@ pub fn kitchen_discovery_settings() -> DiscoverySettings {
     }
 }
 
+fn default_grasp_deflection() -> f64 {
+    sim::GraspCompliance::default().deflection
+}
+
+fn default_grasp_tilt() -> f64 {
+    sim::GraspCompliance::default().tilt
+}
+
 impl Default for Config {
-    /// The full run: 5 runs of every experiment, σ = 5 mm depth and 1 cm detector noise, no
-    /// injected faults, the two-view estimator, 60 s per planner call.
+    /// The full run: 5 runs of every experiment, σ = 5 mm depth and 1 cm detector noise, the
+    /// simulator's grasp compliance (1 mm, 1°), no injected faults, the two-view estimator, 60 s
+    /// per planner call.
     fn default() -> Self {
         Config {
             scene: PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/kitchen.urdf"),
@@ -242,6 +259,8 @@ impl Default for Config {
             runs: 5,
             depth_noise: 0.005,
             detector_noise: 0.01,
+            grasp_deflection: default_grasp_deflection(),
+            grasp_tilt: default_grasp_tilt(),
             fault_rate: 0.0,
             experiments: Experiment::ALL.to_vec(),
             estimator: EstimatorChoice::TwoView,
@@ -286,6 +305,8 @@ impl Config {
         for (name, v, hi) in [
             ("depth noise", self.depth_noise, 0.1),
             ("detector noise", self.detector_noise, 0.1),
+            ("grasp deflection", self.grasp_deflection, 0.05),
+            ("grasp tilt", self.grasp_tilt, 0.2),
             ("fault rate", self.fault_rate, 1.0),
         ] {
             if !(v.is_finite() && (0.0..=hi).contains(&v)) {

@@ -98,12 +98,15 @@ impl Report {
         let _ = writeln!(
             s,
             "Configuration: {} run(s), seeds {}..={}; depth noise σ = {:.1} mm, detector noise \
-             σ = {:.1} mm, fault rate {}; planner budget {} s per call; experiments: {}{}.\n",
+             σ = {:.1} mm, grasp compliance σ = {:.1} mm, {:.1}°, fault rate {}; planner budget \
+             {} s per call; experiments: {}{}.\n",
             c.runs,
             c.seed,
             c.seed.wrapping_add(c.runs as u64 - 1),
             c.depth_noise * 1e3,
             c.detector_noise * 1e3,
+            c.grasp_deflection * 1e3,
+            c.grasp_tilt.to_degrees(),
             c.fault_rate,
             c.planner_budget,
             c.experiments

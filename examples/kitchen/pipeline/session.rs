@@ -30,6 +30,10 @@ pub fn sim_settings(config: &Config, seed: u64) -> SimSettings {
     };
     s.camera.depth_noise = config.depth_noise;
     s.detector.position_noise = config.detector_noise;
+    s.grasp = sim::GraspCompliance {
+        deflection: config.grasp_deflection,
+        tilt: config.grasp_tilt,
+    };
     s.camera.head_rays = match (config.head_rays, config.quick) {
         (Some(r), _) => r,
         (None, true) => (160, 120),

@@ -3,7 +3,9 @@
 
 use kinscene::discovery::{Hardware, HardwareFailure, LocalGoal};
 use kinscene::scene::nav::occupancy;
-use nalgebra::{Isometry2, Isometry3, Point2, Point3, Translation3, Unit, Vector2, Vector3};
+use nalgebra::{
+    Isometry2, Isometry3, Point2, Point3, Translation3, Unit, UnitQuaternion, Vector2, Vector3,
+};
 
 use super::navigation::route;
 use super::physics::DT;
@@ -250,7 +252,13 @@ impl SimWorld {
             return Err(HardwareFailure::GraspLost);
         };
         let axis = Unit::new_normalize((world_from_part * part_from_tool).rotation * Vector3::z());
-        let solved = self.robot.solve(&point, &axis, &self.robot.arm, true);
+        // The fingers' give never takes the arm past a limit: where the deflected tool pose is
+        // out of reach, the arm stays on the grasp point and the fingers take up the slack.
+        let (bent, tilted) = self.comply(point, axis);
+        let solved = self
+            .robot
+            .solve(&bent, &tilted, &self.robot.arm, true)
+            .or_else(|| self.robot.solve(&point, &axis, &self.robot.arm, true));
         let Some(q) = solved else {
             self.sync_robot().map_err(|e| failure(e.to_string()))?;
             return Err(HardwareFailure::JointLimit);
@@ -266,6 +274,32 @@ impl SimWorld {
         self.robot.arm = q;
         self.sync_robot().map_err(|e| failure(e.to_string()))?;
         Ok(Hardware::ee_pose(self))
+    }
+
+    /// The tool's target under the fingers' compliance ([`super::GraspCompliance`]): the grasp
+    /// point deflected and the approach axis tilted by the compliance's own draws (none when
+    /// both deviations are 0).
+    fn comply(
+        &mut self,
+        point: Point3<f64>,
+        axis: Unit<Vector3<f64>>,
+    ) -> (Point3<f64>, Unit<Vector3<f64>>) {
+        let g = self.settings.grasp;
+        if g.deflection == 0.0 && g.tilt == 0.0 {
+            return (point, axis);
+        }
+        let rng = &mut self.compliance_rng;
+        let offset = Vector3::from_fn(|_, _| super::standard_normal(rng)) * g.deflection;
+        let (a, b) = (super::standard_normal(rng), super::standard_normal(rng));
+        let helper = if axis.x.abs() < 0.9 {
+            Vector3::x()
+        } else {
+            Vector3::y()
+        };
+        let e1 = axis.cross(&helper).normalize();
+        let e2 = axis.cross(&e1);
+        let tilt = UnitQuaternion::from_scaled_axis((e1 * a + e2 * b) * g.tilt);
+        (point + offset, tilt * axis)
     }
 
     /// Retract: open the gripper, let the part come to rest, stow the arm.
