@@ -45,7 +45,7 @@ const CASES: [(&str, &str, f64); 8] = [
 ];
 
 /// Where the robot stands before the placement.
-const ROBOT_FROM: [f64; 2] = [1.5, 0.0];
+const ROBOT_FROM: [f64; 3] = [1.5, 0.0, std::f64::consts::FRAC_PI_2];
 
 struct Setup {
     robot: RobotModel,

@@ -235,7 +235,7 @@ pub(super) fn refine(
             joint,
             handle,
             step.to,
-            [robot.base[0], robot.base[1]],
+            robot.base,
             &settings.placement,
             &mut scratch,
             cancel,

@@ -52,7 +52,7 @@ fn fixture() -> &'static Fixture {
 
 /// Where the robot stands before the placement: in the open room in front of the kitchen
 /// (the room is open towards -y, see the kitchen's header).
-const ROBOT_FROM: [f64; 2] = [1.5, 0.0];
+const ROBOT_FROM: [f64; 3] = [1.5, 0.0, std::f64::consts::FRAC_PI_2];
 
 fn plan(
     model: &SceneModel,
@@ -240,6 +240,57 @@ fn sampled_placement_reaches_a_drawer_and_a_door() {
     }
 }
 
+/// Standing where a first placement put the base, with the tie-break weighing base distance
+/// heavily (100 per metre, against arm paths of a few radians), the second placement keeps
+/// the base exactly there: the current pose is a candidate, reaches every waypoint, and costs
+/// no distance. Without the candidate the poses drawn (from another seed) never land exactly
+/// on it. Both plans pass the independent re-check.
+#[test]
+fn the_current_base_pose_is_a_candidate() {
+    let f = fixture();
+    let model = &f.kitchen;
+    let (joint, handle, to) = ("drawer_top_slide", "drawer_top_handle", 0.3);
+    let first = plan(model, joint, handle, to, &PlacementSettings::default());
+    assert!(first.is_complete(), "{:?}", first.reason);
+    let from = |current_pose: bool| {
+        let mut settings = PlacementSettings::default();
+        settings.sampling.current_pose = current_pose;
+        settings.sampling.distance_weight = 100.0;
+        // Other draws than the first placement's, of which `first.base` was one.
+        settings.sampling.seed += 1;
+        let out = place_and_plan(
+            &f.robot,
+            &f.collision,
+            &f.ik,
+            model,
+            &model.zero_state(),
+            model.joint_id(joint).unwrap(),
+            model.handle_id(handle).unwrap(),
+            to,
+            first.base,
+            &settings,
+        )
+        .unwrap();
+        let problems = recheck(
+            model,
+            &model.zero_state(),
+            model.joint_id(joint).unwrap(),
+            model.handle_id(handle).unwrap(),
+            to,
+            &settings,
+            &out,
+        );
+        assert!(problems.is_empty(), "{problems:?}");
+        out
+    };
+    let stay = from(true);
+    assert!(stay.is_complete(), "{:?}", stay.reason);
+    assert_eq!(stay.base, first.base);
+    let drawn = from(false);
+    assert!(drawn.is_complete(), "{:?}", drawn.reason);
+    assert_ne!(drawn.base, first.base);
+}
+
 #[test]
 fn sampling_is_reproducible_from_its_seed() {
     let model = &fixture().kitchen;
@@ -397,7 +448,7 @@ fn bad_input_gives_typed_errors() {
     let f = fixture();
     let model = &f.kitchen;
     let state = model.zero_state();
-    let run = |joint: &str, handle: &str, to: f64, from: [f64; 2], s: &PlacementSettings| {
+    let run = |joint: &str, handle: &str, to: f64, from: [f64; 3], s: &PlacementSettings| {
         place_and_plan(
             &f.robot,
             &f.collision,
@@ -424,7 +475,7 @@ fn bad_input_gives_typed_errors() {
         Err(PlacementError::Scene(_))
     ));
     assert!(matches!(
-        run(drawer.0, drawer.1, 0.3, [f64::NAN, 0.0], &ok),
+        run(drawer.0, drawer.1, 0.3, [0.0, 0.0, f64::NAN], &ok),
         Err(PlacementError::NonFinite { what: "robot_from" })
     ));
     let mut bad = PlacementSettings {

@@ -21,10 +21,11 @@
 //!    same holds along the straight joint-space segment from the previous reached waypoint
 //!    (checked every `segment_resolution`, the part's value interpolated alongside).
 //! 3. **Base placement**, [`PlacementMethod`]:
-//!    - [`Sampled`](PlacementMethod::Sampled), the paper's: base poses drawn in the region of
-//!      [`SamplingSettings`] (an annular sector in front of the handle trajectory, facing it
-//!      with a yaw jitter), those whose base links touch the scene (current state, the moving
-//!      part at every waypoint) rejected, a manipulation plan from each of the others; the
+//!    - [`Sampled`](PlacementMethod::Sampled), the paper's: the robot's current base pose,
+//!      then base poses drawn in the region of [`SamplingSettings`] (an annular sector in
+//!      front of the handle trajectory, facing it with a yaw jitter), those whose base links
+//!      touch the scene (current state, the moving part at every waypoint) rejected, a
+//!      manipulation plan from each of the others; the
 //!      plan with the most waypoints reached wins (ties: shortest joint-space path plus a
 //!      weighted distance from the robot's current position).
 //!    - [`Optimised`](PlacementMethod::Optimised): the best sample, then one nonlinear program
@@ -236,8 +237,9 @@ fn check_seed(robot: &RobotModel, seed: &DVector<f64>) -> Result<(), PlacementEr
 
 /// Chooses a base pose for moving `joint` from its value in `state` to `to` by the handle
 /// `handle`, and plans the arm along the handle trajectory from there (see the
-/// [module docs](self)). `robot_from` is the base's current position (m), for the tie-break
-/// between equally good samples. The first waypoint's IK starts from
+/// [module docs](self)). `robot_from` is the base's current pose `[x (m), y (m), yaw (rad)]`:
+/// a candidate itself ([`SamplingSettings::current_pose`]) and the point the tie-break between
+/// equally good samples measures from. The first waypoint's IK starts from
 /// [`RobotModel::neutral`].
 ///
 /// Compiles the placement NLP on every call when optimising; use [`place_and_plan_with`] to
@@ -259,7 +261,7 @@ pub fn place_and_plan(
     joint: JointId,
     handle: HandleId,
     to: f64,
-    robot_from: [f64; 2],
+    robot_from: [f64; 3],
     settings: &PlacementSettings,
 ) -> Result<PlacementOutcome, PlacementError> {
     let problem = PlacementProblem {
@@ -289,7 +291,7 @@ pub fn place_and_plan_with(
     joint: JointId,
     handle: HandleId,
     to: f64,
-    robot_from: [f64; 2],
+    robot_from: [f64; 3],
     settings: &PlacementSettings,
     data: &mut PlacementData,
 ) -> Result<PlacementOutcome, PlacementError> {
@@ -308,7 +310,7 @@ pub fn place_and_plan_cancellable(
     joint: JointId,
     handle: HandleId,
     to: f64,
-    robot_from: [f64; 2],
+    robot_from: [f64; 3],
     settings: &PlacementSettings,
     data: &mut PlacementData,
     cancel: Option<&AtomicBool>,

@@ -84,22 +84,25 @@ pub(crate) fn region(
 
 /// Draws base poses, rejects those whose base links collide with the scene at any waypoint (the
 /// parts at the current state and the moving part along its motion), and plans the
-/// manipulation from the others until `settings.samples` were evaluated or `max_draws` drawn; keeps the plan with the most waypoints reached,
-/// then the lowest `path_length + distance_weight · ‖base − robot_from‖`, then the earliest.
+/// manipulation from the others until `settings.samples` were evaluated or `max_draws` drawn
+/// (the robot's current pose `robot_from` first, when `current_pose` is set, outside that
+/// count); keeps the plan with the most waypoints reached, then the lowest
+/// `path_length + distance_weight · ‖base − robot_from‖`, then the earliest.
 pub(crate) fn sample(
     prepared: &Prepared<'_>,
-    robot_from: [f64; 2],
+    robot_from: [f64; 3],
     seed: &DVector<f64>,
     sampling: &SamplingSettings,
     manipulation: &ManipulationSettings,
 ) -> Result<SampleResult, PlacementError> {
-    let (centroid, front, [r_min, r_max]) = region(prepared, robot_from, sampling);
+    let here = [robot_from[0], robot_from[1]];
+    let (centroid, front, [r_min, r_max]) = region(prepared, here, sampling);
     let front_angle = front.y.atan2(front.x);
     let mut rng = ChaCha8Rng::seed_from_u64(sampling.seed);
-    let towards = centroid - Point2::from(robot_from);
+    let towards = centroid - Point2::from(here);
     let fallback = [robot_from[0], robot_from[1], towards.y.atan2(towards.x)];
     let cost = |plan: &ManipulationPlan| {
-        let d = (Vector2::new(plan.base[0], plan.base[1]) - Vector2::from(robot_from)).norm();
+        let d = (Vector2::new(plan.base[0], plan.base[1]) - Vector2::from(here)).norm();
         plan.path_length() + sampling.distance_weight * d
     };
     let mut best: Option<(usize, f64, ManipulationPlan)> = None;
@@ -107,6 +110,31 @@ pub(crate) fn sample(
     let mut obstacles = BTreeSet::new();
     let start = Instant::now();
     let mut stopped = None;
+    let consider = |base: [f64; 3],
+                    best: &mut Option<(usize, f64, ManipulationPlan)>,
+                    obstacles: &mut BTreeSet<PartId>|
+     -> Result<bool, PlacementError> {
+        if let Some(body) = base_collides(prepared, base, seed, sampling.base_margin)? {
+            if let Body::Part(part) = body {
+                obstacles.insert(part);
+            }
+            return Ok(false);
+        }
+        let at_least = best.as_ref().map_or(0, |b| b.0);
+        let plan = prepared.plan(base, seed, manipulation, at_least)?;
+        obstacles.extend(obstacle_parts(&plan));
+        let score = (plan.reached_count(), cost(&plan));
+        let better = best
+            .as_ref()
+            .is_none_or(|b| score.0 > b.0 || (score.0 == b.0 && score.1 < b.1));
+        if better {
+            *best = Some((score.0, score.1, plan));
+        }
+        Ok(true)
+    };
+    if sampling.current_pose {
+        consider(robot_from, &mut best, &mut obstacles)?;
+    }
     while drawn - rejected < sampling.samples && drawn < sampling.max_draws {
         if start.elapsed() > sampling.budget {
             stopped = Some(Stop::Budget);
@@ -129,22 +157,8 @@ pub(crate) fn sample(
             position.y,
             wrap(facing.y.atan2(facing.x) + jitter),
         ];
-        if let Some(body) = base_collides(prepared, base, seed, sampling.base_margin)? {
-            if let Body::Part(part) = body {
-                obstacles.insert(part);
-            }
+        if !consider(base, &mut best, &mut obstacles)? {
             rejected += 1;
-            continue;
-        }
-        let at_least = best.as_ref().map_or(0, |b| b.0);
-        let plan = prepared.plan(base, seed, manipulation, at_least)?;
-        obstacles.extend(obstacle_parts(&plan));
-        let score = (plan.reached_count(), cost(&plan));
-        let better = best
-            .as_ref()
-            .is_none_or(|b| score.0 > b.0 || (score.0 == b.0 && score.1 < b.1));
-        if better {
-            best = Some((score.0, score.1, plan));
         }
     }
     Ok(SampleResult {

@@ -98,6 +98,11 @@ pub struct SamplingSettings {
     /// Tie-break between samples that reach the same number of waypoints: the lower
     /// `path length (rad) + distance_weight · ‖base − robot_from‖ (m)` wins, >= 0. Default 0.5.
     pub distance_weight: f64,
+    /// Evaluate the robot's current base pose (`robot_from`, its yaw included) before the
+    /// drawn ones, as one more candidate under the same rules (it does not count towards
+    /// `samples`). Where the arm can do the whole motion from where the robot stands, and no
+    /// drawn pose is better by the tie-break, the base does not move. Default true.
+    pub current_pose: bool,
 }
 
 impl Default for SamplingSettings {
@@ -112,6 +117,7 @@ impl Default for SamplingSettings {
             yaw_jitter: 0.6,
             base_margin: 0.02,
             distance_weight: 0.5,
+            current_pose: true,
         }
     }
 }
