@@ -61,6 +61,18 @@ fn plan(
     to: f64,
     settings: &PlacementSettings,
 ) -> PlacementOutcome {
+    plan_from(model, joint, handle, to, ROBOT_FROM, settings)
+}
+
+/// [`plan`] with the robot standing at `from`.
+fn plan_from(
+    model: &SceneModel,
+    joint: &str,
+    handle: &str,
+    to: f64,
+    from: [f64; 3],
+    settings: &PlacementSettings,
+) -> PlacementOutcome {
     let f = fixture();
     place_and_plan(
         &f.robot,
@@ -71,7 +83,7 @@ fn plan(
         model.joint_id(joint).unwrap(),
         model.handle_id(handle).unwrap(),
         to,
-        ROBOT_FROM,
+        from,
         settings,
     )
     .unwrap()
@@ -168,8 +180,19 @@ fn plan_and_recheck(
     to: f64,
     settings: &PlacementSettings,
 ) -> PlacementOutcome {
+    plan_and_recheck_from(joint, handle, to, ROBOT_FROM, settings)
+}
+
+/// [`plan_and_recheck`] with the robot standing at `from`.
+fn plan_and_recheck_from(
+    joint: &str,
+    handle: &str,
+    to: f64,
+    from: [f64; 3],
+    settings: &PlacementSettings,
+) -> PlacementOutcome {
     let model = &fixture().kitchen;
-    let out = plan(model, joint, handle, to, settings);
+    let out = plan_from(model, joint, handle, to, from, settings);
     let problems = recheck(
         model,
         &model.zero_state(),
@@ -247,8 +270,7 @@ fn sampled_placement_reaches_a_drawer_and_a_door() {
 /// on it. Both plans pass the independent re-check.
 #[test]
 fn the_current_base_pose_is_a_candidate() {
-    let f = fixture();
-    let model = &f.kitchen;
+    let model = &fixture().kitchen;
     let (joint, handle, to) = ("drawer_top_slide", "drawer_top_handle", 0.3);
     let first = plan(model, joint, handle, to, &PlacementSettings::default());
     assert!(first.is_complete(), "{:?}", first.reason);
@@ -258,30 +280,7 @@ fn the_current_base_pose_is_a_candidate() {
         settings.sampling.distance_weight = 100.0;
         // Other draws than the first placement's, of which `first.base` was one.
         settings.sampling.seed += 1;
-        let out = place_and_plan(
-            &f.robot,
-            &f.collision,
-            &f.ik,
-            model,
-            &model.zero_state(),
-            model.joint_id(joint).unwrap(),
-            model.handle_id(handle).unwrap(),
-            to,
-            first.base,
-            &settings,
-        )
-        .unwrap();
-        let problems = recheck(
-            model,
-            &model.zero_state(),
-            model.joint_id(joint).unwrap(),
-            model.handle_id(handle).unwrap(),
-            to,
-            &settings,
-            &out,
-        );
-        assert!(problems.is_empty(), "{problems:?}");
-        out
+        plan_and_recheck_from(joint, handle, to, first.base, &settings)
     };
     let stay = from(true);
     assert!(stay.is_complete(), "{:?}", stay.reason);

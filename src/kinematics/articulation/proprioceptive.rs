@@ -568,34 +568,22 @@ fn refine_circle(
         let d = p - c;
         m += d * d.transpose() / (s.position_sigma * s.position_sigma);
     }
+    let sigma2 = s.orientation_sigma * s.orientation_sigma;
     match s.orientation {
         OrientationModel::Ignored => {}
         OrientationModel::Rigid => {
             // Relative rotations are about the axis: it is least off their rotation vectors.
-            let mut so = Matrix3::zeros();
-            for (x, &a) in inl.iter().enumerate() {
-                for &b in &inl[x + 1..] {
-                    let v = (poses[b].rotation * poses[a].rotation.inverse()).scaled_axis();
-                    so += v * v.transpose();
-                }
-            }
-            // The pairs are not independent; scale to one pair per pose.
-            let scale = 2.0 / (inl.len() as f64 - 1.0).max(1.0);
-            m += (Matrix3::identity() * so.trace() - so) * scale
-                / (s.orientation_sigma * s.orientation_sigma);
+            let so = pair_scatter(inl, |a, b| {
+                (poses[b].rotation * poses[a].rotation.inverse()).scaled_axis()
+            });
+            m += (Matrix3::identity() * so.trace() - so) / sigma2;
         }
         OrientationModel::ApproachAxis => {
             // The approach axis sweeps a cone about the joint axis: their differences are
             // perpendicular to it, as the positions' are.
-            let mut sz = Matrix3::zeros();
-            for (x, &a) in inl.iter().enumerate() {
-                for &b in &inl[x + 1..] {
-                    let d = poses[b].rotation * Vector3::z() - poses[a].rotation * Vector3::z();
-                    sz += d * d.transpose();
-                }
-            }
-            let scale = 2.0 / (inl.len() as f64 - 1.0).max(1.0);
-            m += sz * scale / (s.orientation_sigma * s.orientation_sigma);
+            m += pair_scatter(inl, |a, b| {
+                poses[b].rotation * Vector3::z() - poses[a].rotation * Vector3::z()
+            }) / sigma2;
         }
     }
     let eig = m.symmetric_eigen();
@@ -659,6 +647,19 @@ fn refine_circle(
         radius,
         grasp,
     })
+}
+
+/// `Σ v vᵀ` over the pairs `a < b` of `inl`, `v = f(a, b)`, scaled to one pair per pose (the
+/// pairs are not independent).
+fn pair_scatter(inl: &[usize], f: impl Fn(usize, usize) -> Vector3<f64>) -> Matrix3<f64> {
+    let mut sum = Matrix3::zeros();
+    for (x, &a) in inl.iter().enumerate() {
+        for &b in &inl[x + 1..] {
+            let v = f(a, b);
+            sum += v * v.transpose();
+        }
+    }
+    sum * 2.0 / (inl.len() as f64 - 1.0).max(1.0)
 }
 
 /// Algebraic (Kåsa) circle fit refined by Gauss–Newton on the geometric distances.
