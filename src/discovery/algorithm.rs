@@ -97,8 +97,9 @@ pub struct Discovery {
 ///    attempt, but only the closed pose can be registered as the joint's zero), `o_post`,
 ///    the first grasp contact, the last contact, and every end-effector pose recorded while
 ///    grasping (after a regrasp, the later grasps' poses are expressed in the first grasp's
-///    frame, stitched where each grasp began: one rigid grasp, the estimators' model). An `Unknown` estimate is a [`Stage::Estimation`] failure, and so is a revolute
-///    axis that contradicts the rotation the exploration measured: more than 45° from
+///    frame, stitched where each grasp began: one rigid grasp, the estimators' model). An
+///    `Unknown` estimate is a [`Stage::Estimation`] failure, and so is a revolute axis that
+///    contradicts the rotation the exploration measured: more than 45° from
 ///    horizontal for a front seen turning about a horizontal axis, or less than 45° for one
 ///    seen turning left or right (the last attempt that saw a rotation decides). A revolute
 ///    estimate that turned less than `rotation_threshold` while every attempt that moved the

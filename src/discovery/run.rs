@@ -374,7 +374,6 @@ impl Run<'_> {
     }
 }
 
-/// The log entry of an attempt that did not get to the grasp.
 /// Expresses the end-effector poses of every grasp after the first as if the first grasp
 /// still held: each later grasp `k` starts where the part was left by grasp `k − 1`, so with
 /// a rigid grasp `world_from_ee = part(θ)·G_k`, the last pose of grasp `k − 1` is
@@ -399,6 +398,7 @@ pub(crate) fn stitch_grasps(poses: &mut [(f64, Isometry3<f64>)], starts: &[usize
     }
 }
 
+/// The log entry of an attempt that did not get to the grasp.
 fn skipped(world_from_base: Isometry2<f64>, end: AttemptEnd) -> AttemptLog {
     AttemptLog {
         world_from_base,

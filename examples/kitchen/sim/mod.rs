@@ -54,9 +54,9 @@ pub struct Faults {
 }
 
 /// The soft fingers' compliance under a pull: each pull step leaves the tool off the point it
-/// grasped on the handle by a Gaussian deflection (independent per step), and its approach axis tilted off the one it
-/// grasped with, while the roll about the approach axis is the arm's to choose (the fingers
-/// hold a handle, not an orientation). Drawn from a generator of its own (stream 1 of the
+/// grasped on the handle by a Gaussian deflection (independent per step), and its approach
+/// axis tilted off the one it grasped with, while the roll about the approach axis is the
+/// arm's to choose (the fingers hold a handle, not an orientation). Drawn from a generator of its own (stream 1 of the
 /// world's seed), so that the other draws do not depend on it.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct GraspCompliance {
