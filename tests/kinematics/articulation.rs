@@ -867,6 +867,16 @@ fn proprio_only(ee_poses: &[(f64, Isometry3<f64>)]) -> Interaction<'_> {
     }
 }
 
+/// The proprioceptive estimator with `orientation`, the other settings default.
+fn proprio(orientation: OrientationModel) -> Proprioceptive {
+    Proprioceptive {
+        settings: ProprioceptiveSettings {
+            orientation,
+            ..Default::default()
+        },
+    }
+}
+
 /// An arc of a tilted axis with uniform ±5 mm noise (positions and orientations from the
 /// rotation) gives a revolute joint with the arc's axis, centre and angle; positions alone
 /// (orientation off) too.
@@ -881,13 +891,9 @@ fn proprioceptive_arc_and_line() {
         OrientationModel::ApproachAxis,
         OrientationModel::Ignored,
     ] {
-        let est = Proprioceptive {
-            settings: ProprioceptiveSettings {
-                orientation,
-                ..Default::default()
-            },
-        };
-        let e = est.estimate(&proprio_only(&poses)).unwrap();
+        let e = proprio(orientation)
+            .estimate(&proprio_only(&poses))
+            .unwrap();
         let JointEstimate::Revolute {
             axis: a,
             pivot: q,
@@ -979,13 +985,9 @@ fn proprioceptive_compliant_grasp_needs_only_the_approach_axis() {
         })
         .collect();
     let error = |orientation| {
-        let est = Proprioceptive {
-            settings: ProprioceptiveSettings {
-                orientation,
-                ..Default::default()
-            },
-        };
-        let e = est.estimate(&proprio_only(&poses)).unwrap();
+        let e = proprio(orientation)
+            .estimate(&proprio_only(&poses))
+            .unwrap();
         let JointEstimate::Revolute {
             axis: a, pivot: q, ..
         } = e.joint
@@ -1065,19 +1067,13 @@ fn degenerate_input_gives_unknown() {
             })
             .collect()
     };
-    let with = |orientation| Proprioceptive {
-        settings: ProprioceptiveSettings {
-            orientation,
-            ..Default::default()
-        },
-    };
     for (orientation, about, slide) in [
         (OrientationModel::Rigid, Vector3::z(), false),
         (OrientationModel::Rigid, Vector3::y(), false),
         (OrientationModel::ApproachAxis, Vector3::y(), false),
         (OrientationModel::ApproachAxis, Vector3::z(), true),
     ] {
-        let e = with(orientation)
+        let e = proprio(orientation)
             .estimate(&proprio_only(&twist(about)))
             .unwrap();
         if slide {

@@ -430,23 +430,16 @@ fn estimate(s: &ProprioceptiveSettings, i: &Interaction<'_>) -> Estimate {
         Model::Line { dir, .. } => dir.dot(&(last - first)).abs(),
         Model::Circle { radius, .. } => radius * swept_angle(&best.model, &positions, &inl).abs(),
     };
-    if travel < s.min_motion {
-        return Estimate {
-            details: details.clone(),
-            ..Estimate::unknown(format!(
-                "too little motion: the fitted joint moves the end effector {travel:.4} m (need {} m)",
-                s.min_motion
-            ))
-        };
-    }
-    // A circle fitted to noise about one spot can "sweep" any angle (about the approach axis
-    // the orientations cannot object); an exploration pulls the end effector away.
+    // The straight distance too: a circle fitted to noise about one spot can "sweep" any
+    // angle (about the approach axis the orientations cannot object), while an exploration
+    // pulls the end effector away.
     let chord = (last - first).norm();
-    if chord < s.min_motion {
+    if travel.min(chord) < s.min_motion {
         return Estimate {
             details: details.clone(),
             ..Estimate::unknown(format!(
-                "too little motion: the end effector ended {chord:.4} m from where it began (need {} m)",
+                "too little motion: the fitted joint moves the end effector {travel:.4} m, which \
+                 ends {chord:.4} m from where it began (need {} m of each)",
                 s.min_motion
             ))
         };
