@@ -15,7 +15,7 @@ use std::sync::Mutex;
 use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use kinscene::kinematics::robot::{RobotCollision, RobotConfig, RobotModel};
+use kinscene::kinematics::robot::{Exempt, RobotCollision, RobotConfig, RobotModel};
 use kinscene::motion::paths::{PathOutcome, PathSettings, first_invalid, plan_arm, plan_base};
 use kinscene::motion::timing::time_parameterise;
 use kinscene::scene::collision::{CollisionSettings, collisions_of};
@@ -270,7 +270,7 @@ fn arm_plan(c: &mut Criterion) {
         };
         collision.self_collision(&poses).is_none()
             && collision
-                .scene_collision(&poses, &scene, &data, &[], margin)
+                .scene_collision(&poses, &scene, &data, Exempt::Nothing, margin)
                 .is_none()
     };
     let free = |q: &[f64]| clear(q, PLAN_MARGIN);

@@ -15,8 +15,10 @@
 //!       "timing": { "base": 6.1, "approach": 2.3, "manipulation": 4.0, "retreat": 2.2 },  // s
 //!       "base_path":    { "times": [0.0, ...], "positions": [[x, y, yaw], ...] },
 //!       "approach":     { "times": [...], "positions": [[q1, ..., q7], ...] },   // rad
+//!       "pregrasp": 12,               // index in approach.positions: straight in from here
 //!       "manipulation": { "times": [...], "positions": [...] },  // K+1 waypoints on the handle trajectory
-//!       "retreat":      { "times": [...], "positions": [...] } }
+//!       "retreat":      { "times": [...], "positions": [...] },
+//!       "postgrasp": 10 }             // index in retreat.positions: straight out up to here
 //!   ],
 //!   "vetoes": [                        // moves the motion layer rejected, in the order found
 //!     { "step": 0, "joint": "...", "from": 0.0, "to": 1.2,
@@ -71,10 +73,16 @@ pub struct StepDocument {
     pub base_path: PathDocument,
     /// Arm: stowed to grasp.
     pub approach: PathDocument,
+    /// Index in `approach.positions` of the pre-grasp configuration (the straight approach
+    /// along the handle's normal starts there).
+    pub pregrasp: usize,
     /// Arm along the handle trajectory.
     pub manipulation: PathDocument,
     /// Arm: back to stowed.
     pub retreat: PathDocument,
+    /// Index in `retreat.positions` of the post-grasp configuration (the straight retreat
+    /// along the handle's normal ends there).
+    pub postgrasp: usize,
 }
 
 impl From<&StepMotion> for StepDocument {
@@ -88,8 +96,10 @@ impl From<&StepMotion> for StepDocument {
             timing: s.timing,
             base_path: (&s.base_path).into(),
             approach: (&s.approach).into(),
+            pregrasp: s.pregrasp,
             manipulation: (&s.manipulation).into(),
             retreat: (&s.retreat).into(),
+            postgrasp: s.postgrasp,
         }
     }
 }

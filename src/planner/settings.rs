@@ -26,8 +26,10 @@ pub struct PlannerSettings {
     /// smaller of this and the placement's `manipulation.margin`, since they start or end at
     /// the placement's configurations), > 0
     /// recommended (default 0.02 m: the Gen3's points move at most about 1.6 cm per 0.01 rad
-    /// of joint motion, so OMPL's and the re-check's discrete checks keep real clearance). The grasped part (and its descendants) is exempt while the
-    /// arm approaches, manipulates and leaves it.
+    /// of joint motion, so OMPL's and the re-check's discrete checks keep real clearance). Between
+    /// the pre-grasp and the post-grasp configuration, the gripper's contact shapes alone may
+    /// touch the grasped part (and its descendants); every other shape keeps the margin from it
+    /// too.
     pub margin: f64,
     /// Arm configuration for driving and between steps; `None`: [`RobotModel::neutral`].
     pub stow: Option<DVector<f64>>,

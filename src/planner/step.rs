@@ -4,14 +4,24 @@
 //! 1. **base**: it drives from its pose to the placement's base pose with the arm stowed
 //!    (OMPL in SE(2); the whole robot — base and stowed arm — against the base map and the parts
 //!    at the current state, with the planner's margin);
-//! 2. **approach**: the arm moves from the stowed configuration to the first waypoint of the
-//!    manipulation (OMPL in joint space; self-collision and the scene, the grasped part and its
-//!    descendants exempt because the gripper ends on the handle);
+//! 2. **approach**: the arm moves from the stowed configuration to the *pre-grasp*
+//!    configuration (OMPL in joint space; nothing exempt: every robot shape keeps the margin
+//!    from every body, the part about to be grasped included), then straight in along the
+//!    handle's inward normal to the grasp, the first waypoint of the manipulation (the
+//!    placement's approach, `placement.approach_distance`, chosen with the base pose);
 //! 3. **manipulation**: the arm follows the joint-space trajectory that keeps the tool on the
 //!    handle trajectory of Eq. (3)–(5) while the part moves with it;
-//! 4. **retreat**: the arm returns to the stowed configuration in the new state (the grasped
-//!    part exempt again, since the gripper starts on the handle);
+//! 4. **retreat**: the arm backs straight out along the handle's normal in the new state to
+//!    the *post-grasp* configuration, then returns to the stowed configuration (OMPL, nothing
+//!    exempt);
 //! 5. nothing else moves: the next step starts from the stowed arm at this base pose.
+//!
+//! **Contact rule.** From the pre-grasp through the manipulation to the post-grasp
+//! configuration the robot is checked with [`Exempt::Grasp`]: only the gripper's contact
+//! shapes (fingers, pads) may touch the grasped part and its descendants, and every other
+//! shape keeps the margin from every body, the grasped part included. The grasp itself stops
+//! the tool short of the handle where the fingertips would otherwise enter the part's front
+//! (see [`JointMotion::with_standoff`](crate::motion::placement::JointMotion::with_standoff)).
 //!
 //! Every path is re-checked densely by [`first_invalid`] at the planner's resolution, with
 //! the same collision model but none of OMPL's code (a disagreement is a failed step, not an
@@ -24,7 +34,7 @@ use nalgebra::DVector;
 
 use super::{PlannerError, PlannerSettings, budget_left};
 use crate::kinematics::ik::IkSolver;
-use crate::kinematics::robot::{RobotCollision, RobotConfig, RobotModel};
+use crate::kinematics::robot::{Exempt, RobotCollision, RobotConfig, RobotModel};
 use crate::motion::paths::{PathOutcome, first_invalid, plan_arm, plan_base};
 use std::sync::Mutex;
 
@@ -33,7 +43,7 @@ use crate::motion::placement::{
 };
 use crate::motion::timing::{TimedPath, time_parameterise};
 use crate::scene::{JointId, PartId, SceneData, SceneModel, State, forward_kinematics};
-use crate::task::{Robot, Step, Termination};
+use crate::task::{BodyName, Robot, Step, Termination};
 
 /// The check of a step that failed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -43,11 +53,13 @@ pub enum Check {
     Placement,
     /// No collision-free base path to the chosen base pose.
     BasePath,
-    /// No collision-free arm path from the stowed configuration to the grasp.
+    /// No collision-free arm path from the stowed configuration to the grasp (the free path
+    /// to the pre-grasp configuration or the straight line in along the handle's normal).
     Approach,
     /// The manipulation trajectory failed the dense re-check.
     Manipulation,
-    /// No collision-free arm path back to the stowed configuration.
+    /// No collision-free arm path back to the stowed configuration (the straight line out
+    /// along the handle's normal or the free path from the post-grasp configuration).
     Retreat,
     /// The budget ran out or the cancel flag was set during the step.
     Stopped,
@@ -138,12 +150,20 @@ pub struct StepMotion {
     pub base: [f64; 3],
     /// The base path (x, y, yaw waypoints), timed.
     pub base_path: TimedPath,
-    /// The arm path from stowed to the first waypoint, timed.
+    /// The arm path from stowed to the first waypoint, timed: free to the pre-grasp
+    /// configuration, then straight in along the handle's normal.
     pub approach: TimedPath,
+    /// Index in `approach.positions` of the pre-grasp configuration: from it on, the gripper's
+    /// contact shapes may touch the grasped part.
+    pub pregrasp: usize,
     /// The arm configurations along the handle trajectory (K + 1 waypoints), timed.
     pub manipulation: TimedPath,
-    /// The arm path back to stowed, timed.
+    /// The arm path back to stowed, timed: straight out along the handle's normal to the
+    /// post-grasp configuration, then free.
     pub retreat: TimedPath,
+    /// Index in `retreat.positions` of the post-grasp configuration: up to it, the gripper's
+    /// contact shapes may touch the grasped part.
+    pub postgrasp: usize,
     /// Execution times.
     pub timing: StepTiming,
 }
@@ -175,7 +195,7 @@ pub(super) fn start_base_of(
     })
 }
 
-/// The parts exempt from the robot's collision checks while it holds `joint`'s part.
+/// The parts that the gripper's contact shapes may touch while it holds `joint`'s part.
 fn grasped(model: &SceneModel, joint: JointId) -> Vec<PartId> {
     let part = joint.part();
     model
@@ -253,11 +273,16 @@ pub(super) fn refine(
         return Ok(Err((failure, causes)));
     }
     let base = placement.base;
-    let waypoints: Vec<Vec<f64>> = placement
+    // The placement's configurations: the straight approach (pre-grasp to grasp), the handle
+    // trajectory, the straight retreat (to post-grasp).
+    let all: Vec<Vec<f64>> = placement
         .arm
         .iter()
         .map(|q| q.as_slice().to_vec())
         .collect();
+    let trajectory = placement.motion.trajectory();
+    let (grasp_at, release_at) = (*trajectory.start(), *trajectory.end());
+    let waypoints = &all[trajectory];
     if ctx.termination.should_stop() {
         return Ok(Err(fail(Check::Stopped, "after base placement".into())));
     }
@@ -272,7 +297,7 @@ pub(super) fn refine(
         match ctx.robot.link_poses(&cfg) {
             Ok(poses) => ctx
                 .collision
-                .scene_collision(&poses, model, &data, &[], settings.margin)
+                .scene_collision(&poses, model, &data, Exempt::Nothing, settings.margin)
                 .is_none(),
             Err(_) => false,
         }
@@ -325,34 +350,45 @@ pub(super) fn refine(
         )));
     }
 
-    // Approach: stowed -> first waypoint, the grasped subtree exempt. The arm phases end or
-    // start at the placement's configurations, which keep the placement's margin: the arm
-    // keeps no more than that, or the ends of its own paths would be invalid.
+    // Approach: stowed -> pre-grasp (nothing exempt) -> first waypoint (the grasp rule). The
+    // arm phases end or start at the placement's configurations, which keep the placement's
+    // margin: the arm keeps no more than that, or the ends of its own paths would be invalid.
     let arm_margin = settings.margin.min(settings.placement.manipulation.margin);
     let (lower, upper) = ctx.robot.arm_bounds();
-    let arm_valid_in = |data: &SceneData, q: &[f64]| -> bool {
-        let cfg = RobotConfig {
-            base,
-            arm: DVector::from_column_slice(q),
-        };
-        match ctx.robot.link_poses(&cfg) {
-            Ok(poses) => {
-                ctx.collision.self_collision(&poses).is_none()
-                    && ctx
-                        .collision
-                        .scene_collision(&poses, model, data, &ignore, arm_margin)
-                        .is_none()
-            }
-            Err(_) => false,
-        }
+    let arm_check = |data, exempt| ArmCheck {
+        ctx,
+        base,
+        data,
+        exempt,
+        margin: arm_margin,
     };
-    let approach_valid = |q: &[f64]| arm_valid_in(&data, q);
-    let first = &waypoints[0];
-    let last = &waypoints[waypoints.len() - 1];
+    let free_before = arm_check(&data, Exempt::Nothing);
+    let grasping_before = arm_check(&data, Exempt::Grasp(&ignore));
+    // A straight part (approach or retreat), densely re-checked under the grasp rule.
+    let straight = |path: &[Vec<f64>], arm: &ArmCheck<'_>, check: Check, what: &str| {
+        first_invalid(path, settings.arm_check_resolution, false, &|q| {
+            arm.valid(q)
+        })
+        .map(|(seg, at)| {
+            fail(
+                check,
+                format!(
+                    "dense re-check: segment {seg} of the straight {what} along the \
+                         handle's normal: {}",
+                    arm.describe(&at)
+                ),
+            )
+        })
+    };
+    let inward = &all[..=grasp_at];
+    if let Some(f) = straight(inward, &grasping_before, Check::Approach, "approach") {
+        return Ok(Err(f));
+    }
+    let pregrasp_q = inward[0].clone();
     // One arm phase: OMPL, then the dense re-check.
     let arm_phase = |from: &[f64],
                      to: &[f64],
-                     valid: &(dyn Fn(&[f64]) -> bool + Sync),
+                     arm: &ArmCheck<'_>,
                      check: Check,
                      what: &str|
      -> Result<Result<Vec<Vec<f64>>, Failed>, PlannerError> {
@@ -363,7 +399,7 @@ pub(super) fn refine(
             to,
             lower.as_slice(),
             upper.as_slice(),
-            valid,
+            &|q: &[f64]| arm.valid(q),
             &path_settings,
             cancel,
         )?;
@@ -378,48 +414,76 @@ pub(super) fn refine(
                 return Ok(Err(fail(check, describe(&other, what))));
             }
         };
-        if let Some((seg, _)) = first_invalid(&path, settings.arm_check_resolution, false, valid) {
+        if let Some((seg, at)) = first_invalid(&path, settings.arm_check_resolution, false, &|q| {
+            arm.valid(q)
+        }) {
             return Ok(Err(fail(
                 check,
-                format!("dense re-check: segment {seg} of the {what} collides"),
+                format!(
+                    "dense re-check: segment {seg} of the {what}: {}",
+                    arm.describe(&at)
+                ),
             )));
         }
         Ok(Ok(path))
     };
-    let approach = match arm_phase(
+    let free_path = match arm_phase(
         stow.as_slice(),
-        first,
-        &approach_valid,
+        &pregrasp_q,
+        &free_before,
         Check::Approach,
         "arm approach",
     )? {
         Ok(p) => p,
         Err(f) => return Ok(Err(f)),
     };
+    let pregrasp = free_path.len() - 1;
+    let approach: Vec<Vec<f64>> = free_path
+        .into_iter()
+        .chain(inward.iter().skip(1).cloned())
+        .collect();
 
     // Manipulation: dense re-check with the part moving along with the arm.
-    if let Some(reason) = check_manipulation(ctx, state, joint, step, &waypoints, &|d, q| {
-        arm_valid_in(d, q)
+    if let Some(reason) = check_manipulation(ctx, state, joint, step, waypoints, &|d, q| {
+        let arm = ArmCheck {
+            ctx,
+            base,
+            data: d,
+            exempt: Exempt::Grasp(&ignore),
+            margin: arm_margin,
+        };
+        arm.hit(q).map(|h| h.to_string())
     })? {
         return Ok(Err(fail(Check::Manipulation, reason)));
     }
 
-    // Retreat in the new state.
+    // Retreat in the new state: straight out along the normal, then free to stowed.
     let mut after = state.clone();
     after.set(model, joint, step.to)?;
     let mut data_after = SceneData::new(model);
     forward_kinematics(model, &mut data_after, &after)?;
-    let retreat_valid = |q: &[f64]| arm_valid_in(&data_after, q);
-    let retreat = match arm_phase(
-        last,
+    let free_after = arm_check(&data_after, Exempt::Nothing);
+    let grasping_after = arm_check(&data_after, Exempt::Grasp(&ignore));
+    let outward = &all[release_at..];
+    if let Some(f) = straight(outward, &grasping_after, Check::Retreat, "retreat") {
+        return Ok(Err(f));
+    }
+    let postgrasp = outward.len() - 1;
+    let free_path = match arm_phase(
+        &outward[postgrasp],
         stow.as_slice(),
-        &retreat_valid,
+        &free_after,
         Check::Retreat,
         "arm retreat",
     )? {
         Ok(p) => p,
         Err(f) => return Ok(Err(f)),
     };
+    let retreat: Vec<Vec<f64>> = outward
+        .iter()
+        .cloned()
+        .chain(free_path.into_iter().skip(1))
+        .collect();
 
     // Timing.
     let b = ctx.robot.base();
@@ -437,7 +501,7 @@ pub(super) fn refine(
         .map(|j| j.max_acceleration)
         .collect();
     let approach_timed = time_parameterise(&approach, &vmax, &amax, None)?;
-    let manipulation_timed = time_parameterise(&waypoints, &vmax, &amax, None)?;
+    let manipulation_timed = time_parameterise(waypoints, &vmax, &amax, None)?;
     let retreat_timed = time_parameterise(&retreat, &vmax, &amax, None)?;
     let timing = StepTiming {
         base: base_timed.duration,
@@ -453,10 +517,77 @@ pub(super) fn refine(
         base,
         base_path: base_timed,
         approach: approach_timed,
+        pregrasp,
         manipulation: manipulation_timed,
         retreat: retreat_timed,
+        postgrasp,
         timing,
     }))
+}
+
+/// The arm's validity at one base pose against one scene state, under one exemption: self
+/// collision, and the scene within `margin` ([`RobotCollision::scene_collision`]).
+struct ArmCheck<'a> {
+    ctx: &'a StepContext<'a>,
+    base: [f64; 3],
+    data: &'a SceneData,
+    exempt: Exempt<'a>,
+    margin: f64,
+}
+
+/// What an invalid arm configuration touches.
+enum Hit {
+    /// The configuration has no pose (wrong length, not finite).
+    Unposable,
+    /// Two robot links.
+    SelfCollision(String, String),
+    /// A robot link within the margin of a scene body.
+    Scene(String, BodyName, f64),
+}
+
+impl fmt::Display for Hit {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Hit::Unposable => f.write_str("the arm configuration has no pose"),
+            Hit::SelfCollision(a, b) => write!(f, "robot links {a:?} and {b:?} collide"),
+            Hit::Scene(link, body, margin) => write!(
+                f,
+                "robot link {link:?} comes within {:.0} mm of {body}",
+                1000.0 * margin
+            ),
+        }
+    }
+}
+
+impl ArmCheck<'_> {
+    /// The first thing the robot touches at arm configuration `q`, or `None` if it is valid.
+    fn hit(&self, q: &[f64]) -> Option<Hit> {
+        let ctx = self.ctx;
+        let cfg = RobotConfig {
+            base: self.base,
+            arm: DVector::from_column_slice(q),
+        };
+        let Ok(poses) = ctx.robot.link_poses(&cfg) else {
+            return Some(Hit::Unposable);
+        };
+        let name = |l: usize| ctx.robot.links()[l].name.clone();
+        if let Some((a, b)) = ctx.collision.self_collision(&poses) {
+            return Some(Hit::SelfCollision(name(a), name(b)));
+        }
+        ctx.collision
+            .scene_collision(&poses, ctx.model, self.data, self.exempt, self.margin)
+            .map(|(l, body)| Hit::Scene(name(l), BodyName::of(ctx.model, body), self.margin))
+    }
+
+    fn valid(&self, q: &[f64]) -> bool {
+        self.hit(q).is_none()
+    }
+
+    /// [`ArmCheck::hit`] in words.
+    fn describe(&self, q: &[f64]) -> String {
+        self.hit(q)
+            .map_or_else(|| "no collision found".to_owned(), |h| h.to_string())
+    }
 }
 
 /// Dense re-check of the manipulation: between consecutive waypoints the arm and the joint are
@@ -468,7 +599,7 @@ fn check_manipulation(
     joint: JointId,
     step: &Step,
     waypoints: &[Vec<f64>],
-    valid: &dyn Fn(&SceneData, &[f64]) -> bool,
+    hit: &dyn Fn(&SceneData, &[f64]) -> Option<String>,
 ) -> Result<Option<String>, PlannerError> {
     let model = ctx.model;
     let k = waypoints.len().saturating_sub(1).max(1);
@@ -495,9 +626,9 @@ fn check_manipulation(
             let q: Vec<f64> = a.iter().zip(b).map(|(x, y)| x + (y - x) * t).collect();
             s.set(model, joint, va + (vb - va) * t)?;
             forward_kinematics(model, &mut data, &s)?;
-            if !valid(&data, &q) {
+            if let Some(what) = hit(&data, &q) {
                 return Ok(Some(format!(
-                    "the robot collides between waypoints {i} and {} (scene joint at {:.4})",
+                    "between waypoints {i} and {} (scene joint at {:.4}): {what}",
                     i + 1,
                     va + (vb - va) * t
                 )));

@@ -7,7 +7,7 @@ use kinscene::kinematics::pinocchio::{
     Data, JointIndex, forward_kinematics, frame_placement, joint_placement,
 };
 use kinscene::kinematics::robot::{
-    ArmJointKind, MobileBase, RobotCollision, RobotConfig, RobotError, RobotImportOptions,
+    ArmJointKind, Exempt, MobileBase, RobotCollision, RobotConfig, RobotError, RobotImportOptions,
     RobotModel, TOOL_FRAME,
 };
 use kinscene::scene::collision::Body;
@@ -348,6 +348,7 @@ const WORLD_ROOTED: &str = r#"<robot name="w">
 fn planar_root_and_gripper_joints_are_handled() {
     let options = RobotImportOptions {
         tool_link: "tcp".into(),
+        ..RobotImportOptions::default()
     };
     let robot = RobotModel::from_urdf_str_with(WORLD_ROOTED, &options).unwrap();
     assert_eq!(robot.dof(), 1);
@@ -657,17 +658,17 @@ fn scene_collisions_are_found_and_ignored_parts_skipped() {
     let data = scene_data(&model);
     // The wall is 10 mm from the chassis: clear at margin 5 mm; the box ignored.
     assert_eq!(
-        collision.scene_collision(&poses, &model, &data, &[cube], 0.005),
+        collision.scene_collision(&poses, &model, &data, Exempt::Parts(&[cube]), 0.005),
         None
     );
     // Not ignored, the box touches the gripper, on the last link.
     assert_eq!(
-        collision.scene_collision(&poses, &model, &data, &[], 0.005),
+        collision.scene_collision(&poses, &model, &data, Exempt::Nothing, 0.005),
         Some((7, Body::Part(cube)))
     );
     // At margin 20 mm the wall is in reach of the chassis; link 0 comes first.
     assert_eq!(
-        collision.scene_collision(&poses, &model, &data, &[cube], 0.02),
+        collision.scene_collision(&poses, &model, &data, Exempt::Parts(&[cube]), 0.02),
         Some((0, Body::Base(wall)))
     );
     // At neutral (stowed arm, behind x = 0.17: the shoulder capsule, radius 0.05 about
@@ -679,11 +680,11 @@ fn scene_collisions_are_found_and_ignored_parts_skipped() {
         })
         .unwrap();
     assert_eq!(
-        collision.scene_collision(&stowed, &model, &data, &[], 0.005),
+        collision.scene_collision(&stowed, &model, &data, Exempt::Nothing, 0.005),
         None
     );
     assert_eq!(
-        collision.scene_collision(&stowed, &model, &data, &[], 0.02),
+        collision.scene_collision(&stowed, &model, &data, Exempt::Nothing, 0.02),
         Some((0, Body::Base(wall)))
     );
     let back = robot
@@ -693,7 +694,7 @@ fn scene_collisions_are_found_and_ignored_parts_skipped() {
         })
         .unwrap();
     assert_eq!(
-        collision.scene_collision(&back, &model, &data, &[], 0.02),
+        collision.scene_collision(&back, &model, &data, Exempt::Nothing, 0.02),
         None
     );
 
@@ -704,11 +705,99 @@ fn scene_collisions_are_found_and_ignored_parts_skipped() {
     let cube = model.part_id("cube").unwrap();
     let data = scene_data(&model);
     assert_eq!(
-        collision.scene_collision(&poses, &model, &data, &[], 0.05),
+        collision.scene_collision(&poses, &model, &data, Exempt::Nothing, 0.05),
         None
     );
     assert_eq!(
-        collision.scene_collision(&poses, &model, &data, &[], 0.07),
+        collision.scene_collision(&poses, &model, &data, Exempt::Nothing, 0.07),
         Some((7, Body::Part(cube)))
     );
+}
+
+#[test]
+fn the_grasp_rule_lets_only_the_fingers_touch_the_grasped_part() {
+    let robot = RobotModel::kinova_gen3_mobile();
+    let collision = RobotCollision::new(&robot).unwrap();
+    // The shipped URDF: the finger boxes (collisions `finger_left` / `finger_right`) span z in
+    // [0.17 - 0.06, 0.17 + 0.06] of the gripper frame, the tool frame is at z = 0.20: the
+    // fingertips reach 0.03 m past the tool origin.
+    let reach = collision
+        .fingertip_reach(&robot)
+        .expect("the Gen3 has fingers");
+    assert!((reach - 0.03).abs() < 1e-9, "fingertip reach {reach}");
+    let flags: Vec<bool> = robot.links()[7].contact.clone();
+    assert_eq!(
+        flags,
+        vec![false, false, true, true],
+        "bracelet, body, fingers"
+    );
+
+    let up = RobotConfig {
+        base: [0.0; 3],
+        arm: DVector::zeros(7),
+    };
+    let poses = robot.link_poses(&up).unwrap();
+    let world_from_tool = robot.world_from_tool(&up).unwrap();
+    // The box between the fingers of the test above, overlapping both fingers only (the
+    // gripper body ends at z = 0.11, the box starts at 0.19): grasped, it is allowed.
+    let model = box_scene(world_from_tool, Vector3::new(0.075, 0.01, 0.01), false);
+    let cube = model.part_id("cube").unwrap();
+    let data = scene_data(&model);
+    assert_eq!(
+        collision.scene_collision(&poses, &model, &data, Exempt::Grasp(&[cube]), 0.005),
+        None
+    );
+    // Grasped or not, any other part is checked for the fingers too.
+    assert_eq!(
+        collision.scene_collision(&poses, &model, &data, Exempt::Grasp(&[]), 0.005),
+        Some((7, Body::Part(cube)))
+    );
+    // A 0.2 m tall bar at the tool between the fingers reaches z = 0.10 < 0.11: into the
+    // gripper body, which the rule does not exempt, at margin 0 as at 5 mm.
+    let model = box_scene(world_from_tool, Vector3::new(0.01, 0.01, 0.1), false);
+    let cube = model.part_id("cube").unwrap();
+    let data = scene_data(&model);
+    for margin in [0.0, 0.005] {
+        assert_eq!(
+            collision.scene_collision(&poses, &model, &data, Exempt::Grasp(&[cube]), margin),
+            Some((7, Body::Part(cube)))
+        );
+    }
+    // Exempting the part for every shape (a simulator's contact model) lets it through.
+    assert_eq!(
+        collision.scene_collision(&poses, &model, &data, Exempt::Parts(&[cube]), 0.0),
+        None
+    );
+}
+
+#[test]
+fn contact_links_are_named_by_convention_or_by_the_options() {
+    // WORLD_ROOTED's gripper link is called "finger": the convention marks it.
+    let options = RobotImportOptions {
+        tool_link: "tcp".into(),
+        ..RobotImportOptions::default()
+    };
+    let robot = RobotModel::from_urdf_str_with(WORLD_ROOTED, &options).unwrap();
+    assert_eq!(robot.links()[1].contact, vec![true]);
+    // An explicit empty list: no contact geometry.
+    let none = RobotImportOptions {
+        contact_links: Some(vec![]),
+        ..options.clone()
+    };
+    let robot = RobotModel::from_urdf_str_with(WORLD_ROOTED, &none).unwrap();
+    assert_eq!(robot.links()[1].contact, vec![false]);
+    // A listed link that does not exist, or does not move with the tool, is a typed error.
+    for (link, why) in [("nope", "no such link"), ("base", "not rigidly attached")] {
+        let bad = RobotImportOptions {
+            contact_links: Some(vec![link.into()]),
+            ..options.clone()
+        };
+        match RobotModel::from_urdf_str_with(WORLD_ROOTED, &bad) {
+            Err(RobotError::InvalidContactLink { link: l, reason }) => {
+                assert_eq!(l, link);
+                assert!(reason.contains(why), "{reason}");
+            }
+            other => panic!("expected InvalidContactLink for {link:?}, got {other:?}"),
+        }
+    }
 }

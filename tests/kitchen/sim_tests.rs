@@ -14,7 +14,7 @@ use std::path::Path;
 
 use kinscene::discovery::{Camera, Hardware, HardwareFailure, LocalGoal, Perception};
 use kinscene::kinematics::ik::{IkSettings, IkSolver, IkTarget};
-use kinscene::kinematics::robot::{RobotCollision, RobotConfig, RobotModel};
+use kinscene::kinematics::robot::{Exempt, RobotCollision, RobotConfig, RobotModel};
 use kinscene::motion::paths::{PathOutcome, PathSettings, plan_arm};
 use kinscene::motion::timing::{TimedPath, time_parameterise};
 use kinscene::planner::{StepMotion, StepTiming};
@@ -526,7 +526,7 @@ fn arm_plan(
         robot.link_poses(&config).is_ok_and(|poses| {
             collision.self_collision(&poses).is_none()
                 && collision
-                    .scene_collision(&poses, truth, &data, &ignore, 0.005)
+                    .scene_collision(&poses, truth, &data, Exempt::Parts(&ignore), 0.005)
                     .is_none()
         })
     };
@@ -587,9 +587,11 @@ fn step_at(
         handle: "estimated_handle".into(),
         base,
         base_path: base_path(robot, vec![base.to_vec()]),
+        pregrasp: approach.positions.len() - 1,
         approach,
         manipulation,
         retreat,
+        postgrasp: 0,
         timing,
     }
 }
@@ -762,8 +764,10 @@ fn drive_step(robot: &RobotModel, path: Vec<Vec<f64>>) -> StepMotion {
         },
         base_path,
         approach: still.clone(),
+        pregrasp: 0,
         manipulation: still.clone(),
         retreat: still,
+        postgrasp: 0,
     }
 }
 

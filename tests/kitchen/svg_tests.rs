@@ -340,8 +340,10 @@ fn step(joint: &str, from: f64, to: f64, path: &[[f64; 3]]) -> StepMotion {
         },
         base_path,
         approach: still.clone(),
+        pregrasp: 0,
         manipulation: still.clone(),
         retreat: still,
+        postgrasp: 0,
     }
 }
 

@@ -12,7 +12,7 @@ use std::sync::OnceLock;
 
 use kinscene::kinematics::ik::{IkSettings, IkSolver};
 use kinscene::kinematics::pinocchio as pin;
-use kinscene::kinematics::robot::{RobotCollision, RobotConfig, RobotModel};
+use kinscene::kinematics::robot::{Exempt, RobotCollision, RobotConfig, RobotModel};
 use kinscene::motion::placement::{
     GraspRotation, JointMotion, PlacementData, PlacementError, PlacementMethod, PlacementOutcome,
     PlacementProblem, PlacementSettings, place_and_plan, place_and_plan_with,
@@ -103,7 +103,20 @@ fn recheck(
     let f = fixture();
     let robot = &f.robot;
     let manipulation = &settings.manipulation;
-    let k_max = out.arm.len() - 1;
+    // The waypoints: `a` of the straight approach, the K + 1 of the handle trajectory, `a`
+    // of the straight retreat (PlacementSettings::approach_steps).
+    let a = if settings.approach_distance > 0.0 {
+        settings.approach_steps
+    } else {
+        0
+    };
+    let k_max = settings.steps;
+    assert_eq!(out.arm.len(), k_max + 1 + 2 * a, "waypoint count");
+    // Every kitchen handle is a bar 0.035 m proud with its grasp point at the bar's centre
+    // (kitchen.urdf): the front is 0.0175 m behind the grasp point, and the Gen3's fingertips
+    // reach 0.03 m past the tool (URDF: finger boxes up to z = 0.23, tool at 0.20), so the
+    // tool stops 0.03 + clearance - 0.0175 m out along the normal.
+    let standoff = 0.03 + manipulation.finger_clearance - 0.0175;
     let from = state.value(joint).unwrap();
     let moving: Vec<PartId> = model.part(joint.part()).unwrap().subtree().collect();
     let (lower, upper) = robot.arm_bounds();
@@ -111,21 +124,35 @@ fn recheck(
     let mut scene = SceneData::new(model);
     let world_from_base = RobotModel::world_from_base(out.base);
     let mut problems = Vec::new();
+    // The previous waypoint's grasp point and approach (every waypoint's, reached or not).
+    let mut previous: Option<(Point3<f64>, Vector3<f64>)> = None;
     for (k, q) in out.arm.iter().enumerate() {
+        let prev_grasp = previous.take();
+        // The scene with the joint at the waypoint's value, the handle by FK; the tool out
+        // along the normal by the standoff, and on the straight approach / retreat by
+        // `approach_distance · i / a` more at the i-th waypoint out.
+        let (value, out_by) = if k < a {
+            (from, (a - k) as f64 / a as f64)
+        } else if k > a + k_max {
+            (to, (k - a - k_max) as f64 / a as f64)
+        } else {
+            (from + ((k - a) as f64 / k_max as f64) * (to - from), 0.0)
+        };
+        let mut s = state.clone();
+        s.set(model, joint, value).unwrap();
+        forward_kinematics(model, &mut scene, &s).unwrap();
+        let h = world_from_handle(model, &scene, handle).unwrap();
+        let grasp =
+            h.position + h.normal.into_inner() * (standoff + settings.approach_distance * out_by);
+        previous = Some((grasp, -h.normal.into_inner()));
         if !out.reached[k] {
             continue;
         }
-        // The scene with the joint at the waypoint's value, the handle by FK.
-        let mut s = state.clone();
-        s.set(model, joint, from + (k as f64 / k_max as f64) * (to - from))
-            .unwrap();
-        forward_kinematics(model, &mut scene, &s).unwrap();
-        let h = world_from_handle(model, &scene, handle).unwrap();
         // The tool by Pinocchio.
         pin::forward_kinematics(robot.pinocchio(), &mut pin_data, q).unwrap();
         let tool = world_from_base
             * pin::frame_placement(robot.pinocchio(), &pin_data, robot.tool_frame()).unwrap();
-        let position_error = (tool.translation.vector - h.position.coords).norm();
+        let position_error = (tool.translation.vector - grasp.coords).norm();
         let z = tool.rotation * Vector3::z();
         let axis_error = z.angle(&(-h.normal.into_inner()));
         // The placement's tolerances, plus 1e-9 for the different FK round-off.
@@ -144,8 +171,25 @@ fn recheck(
         }
         if k > 0 && out.reached[k - 1] {
             let jump = (q - &out.arm[k - 1]).amax();
-            if jump > manipulation.max_joint_jump {
-                problems.push(format!("waypoint {k}: jump {jump:.3}"));
+            // A larger jump only where the tool, by Pinocchio's FK along the linearly
+            // interpolated arm, stays on the straight line between the two grasp points
+            // (within the tracking tolerance) at t = 1/8 .. 7/8.
+            let (p0, a0) = prev_grasp.expect("k > 0");
+            let tracks = (1..8).all(|i| {
+                let t = i as f64 / 8.0;
+                let qi = &out.arm[k - 1] + (q - &out.arm[k - 1]) * t;
+                pin::forward_kinematics(robot.pinocchio(), &mut pin_data, &qi).unwrap();
+                let tool = world_from_base
+                    * pin::frame_placement(robot.pinocchio(), &pin_data, robot.tool_frame())
+                        .unwrap();
+                let want = p0.coords.lerp(&grasp.coords, t);
+                let approach = a0.lerp(&(-h.normal.into_inner()), t);
+                (tool.translation.vector - want).norm() <= manipulation.tracking_tolerance + 1e-9
+                    && (tool.rotation * Vector3::z()).angle(&approach)
+                        <= manipulation.tracking_angle + 1e-9
+            });
+            if jump > manipulation.max_joint_jump && !tracks {
+                problems.push(format!("waypoint {k}: jump {jump:.3} off the handle path"));
             }
         }
         let poses = robot
@@ -157,16 +201,22 @@ fn recheck(
         if let Some(pair) = f.collision.self_collision(&poses) {
             problems.push(format!("waypoint {k}: self collision {pair:?}"));
         }
-        if let Some(c) =
-            f.collision
-                .scene_collision(&poses, model, &scene, &moving, manipulation.margin)
-        {
+        if let Some(c) = f.collision.scene_collision(
+            &poses,
+            model,
+            &scene,
+            Exempt::Grasp(&moving),
+            manipulation.margin,
+        ) {
             problems.push(format!("waypoint {k}: arm touches the scene {c:?}"));
         }
-        if let Some(c) =
-            f.collision
-                .scene_collision(&poses[..1], model, &scene, &[], manipulation.margin)
-        {
+        if let Some(c) = f.collision.scene_collision(
+            &poses[..1],
+            model,
+            &scene,
+            Exempt::Nothing,
+            manipulation.margin,
+        ) {
             problems.push(format!("waypoint {k}: base touches the scene {c:?}"));
         }
     }
@@ -256,7 +306,10 @@ fn sampled_placement_reaches_a_drawer_and_a_door() {
     ] {
         let out = plan_and_recheck(joint, handle, to, &settings);
         assert!(out.is_complete(), "{joint}: {:?}", out.reason);
-        assert_eq!(out.reached.len(), settings.steps + 1);
+        assert_eq!(
+            out.reached.len(),
+            settings.steps + 1 + 2 * settings.approach_steps
+        );
         assert_eq!(out.reached_fraction, 1.0);
         assert_eq!(out.method, PlacementMethod::Sampled);
         assert!(out.reason.is_none());

@@ -4,7 +4,7 @@
 use std::time::Duration;
 
 use kinscene::kinematics::ik::{IkOutcome, IkSettings, IkSolver, IkTarget};
-use kinscene::kinematics::robot::{RobotCollision, RobotConfig, RobotModel};
+use kinscene::kinematics::robot::{Exempt, RobotCollision, RobotConfig, RobotModel};
 use kinscene::scene::collision::Body;
 use kinscene::scene::{PartId, SceneData, SceneModel};
 use nalgebra::{DVector, Isometry2, Isometry3, Point3, Unit, Vector3};
@@ -165,7 +165,7 @@ impl Robot {
             poses.len()
         };
         self.collision
-            .scene_collision(&poses[..n], truth, data, ignore, 0.0)
+            .scene_collision(&poses[..n], truth, data, Exempt::Parts(ignore), 0.0)
     }
 
     /// Simulated time (s) of a rest-to-rest arm motion from `from` to `to`: every joint on a

@@ -11,6 +11,12 @@
 //! or overlapping); a robot link *collides with the scene* when some shape of it is within
 //! `margin` of some scene shape (`distance <= margin`), so `margin = 0` makes touching a
 //! collision, as in [`crate::scene::collision::CollisionSettings`].
+//!
+//! **Grasp contact rule.** While the robot holds a handle, only the gripper's contact shapes
+//! (fingers and pads, [`RobotLink::contact`](super::RobotLink::contact)) may touch the grasped
+//! part and its descendants; every other shape keeps the margin from every body, the grasped
+//! part included ([`Exempt::Grasp`]). Away from the handle nothing is exempt
+//! ([`Exempt::Nothing`]).
 
 use nalgebra::{Isometry3, Point3, Vector3};
 
@@ -19,12 +25,29 @@ use crate::scene::collision::Body;
 use crate::scene::collision::geometry::{CompiledShape, Placed, WorldBox};
 use crate::scene::{BaseShapeId, PartId, SceneData, SceneModel};
 
+/// Which scene bodies some robot shapes may touch in [`RobotCollision::scene_collision`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Exempt<'a> {
+    /// Nothing: every robot shape keeps the margin from every scene body.
+    Nothing,
+    /// The grasp contact rule: the gripper's contact shapes may touch these parts (the grasped
+    /// part and its descendants) and are checked against everything else; every other shape
+    /// keeps the margin from every body, these parts included.
+    Grasp(&'a [PartId]),
+    /// These parts are not checked at all, for any robot shape. For callers that model the
+    /// grasp contact themselves (a simulator's compliant grasp); a planner uses
+    /// [`Exempt::Grasp`].
+    Parts(&'a [PartId]),
+}
+
 /// The robot's compiled collision geometry and its self-collision pairs. Built once per robot
 /// ([`RobotCollision::new`]); immutable, `Send + Sync`.
 #[derive(Debug, Clone)]
 pub struct RobotCollision {
     /// Per robot link, its shapes in the link frame.
     shapes: Vec<Vec<CompiledShape>>,
+    /// Per robot link, per shape: contact geometry (fingers, pads).
+    contact: Vec<Vec<bool>>,
     /// Per robot link, a sphere enclosing its shapes (link frame); `None` without shapes.
     spheres: Vec<Option<(Point3<f64>, f64)>>,
     /// Link pairs `(i, j)`, `i < j`, checked for self-collision.
@@ -61,8 +84,14 @@ impl RobotCollision {
             shapes.push(compiled);
         }
         let spheres = shapes.iter().map(|s| enclosing_sphere(s)).collect();
+        let contact = robot
+            .links()
+            .iter()
+            .map(|l| l.colliders_with_contact().map(|(_, c)| c).collect())
+            .collect();
         let mut collision = RobotCollision {
             shapes,
+            contact,
             spheres,
             checked: Vec::new(),
             allowed: Vec::new(),
@@ -134,8 +163,8 @@ impl RobotCollision {
     /// The first robot link (lowest index) within `margin` (m, clearance required) of the
     /// scene, and the scene body it is closest to among those in reach: base map shapes of
     /// `model`, and its parts at the poses in `data` (which must hold
-    /// [`crate::scene::forward_kinematics`] of `model`), the parts in `ignore` excepted (the
-    /// grasped part). `None` if every link keeps more than `margin` from the scene.
+    /// [`crate::scene::forward_kinematics`] of `model`), with the exemptions of `exempt` (see
+    /// [`Exempt`]). `None` if every link keeps more than `margin` from the scene.
     /// Links without a pose (a shorter slice) are not checked; a negative or NaN margin counts
     /// as 0.
     pub fn scene_collision(
@@ -143,9 +172,14 @@ impl RobotCollision {
         link_poses: &[Isometry3<f64>],
         model: &SceneModel,
         data: &SceneData,
-        ignore: &[PartId],
+        exempt: Exempt<'_>,
         margin: f64,
     ) -> Option<(usize, Body)> {
+        let (ignore, grasped): (&[PartId], &[PartId]) = match exempt {
+            Exempt::Nothing => (&[], &[]),
+            Exempt::Grasp(parts) => (&[], parts),
+            Exempt::Parts(parts) => (parts, &[]),
+        };
         let margin = if margin > 0.0 { margin } else { 0.0 };
         let links = self.shapes.len().min(link_poses.len());
         let placed: Vec<Vec<(Placed<'_>, WorldBox)>> = (0..links)
@@ -197,8 +231,12 @@ impl RobotCollision {
         }
         for (l, link) in placed.iter().enumerate() {
             let mut best: Option<(f64, Body)> = None;
-            for (robot_shape, robot_box) in link {
+            for (k, (robot_shape, robot_box)) in link.iter().enumerate() {
+                let contact = self.contact[l].get(k).copied().unwrap_or(false);
                 for (body, scene_shape, scene_box) in &candidates {
+                    if contact && matches!(body, Body::Part(p) if grasped.contains(p)) {
+                        continue;
+                    }
                     if !robot_box.overlaps(scene_box)
                         || robot_shape.sphere_gap(scene_shape) > margin
                     {
@@ -215,6 +253,21 @@ impl RobotCollision {
             }
         }
         None
+    }
+
+    /// How far the gripper's contact shapes reach beyond the tool origin along the approach
+    /// (tool +z), m: the largest z, in the tool frame, of the bounding boxes of the contact
+    /// shapes of the last link (the fingertips). A conservative bound (a box encloses its
+    /// shape). `None` if the robot has no contact shapes on its last link.
+    pub fn fingertip_reach(&self, robot: &RobotModel) -> Option<f64> {
+        let last = self.shapes.len().checked_sub(1)?;
+        let tool_from_last = robot.last_from_tool().inverse();
+        self.shapes[last]
+            .iter()
+            .zip(&self.contact[last])
+            .filter(|(_, c)| **c)
+            .map(|(s, _)| s.world_box(&tool_from_last).max.z)
+            .reduce(f64::max)
     }
 
     /// The links rigidly attached to the base (they move with the base only, whatever the arm

@@ -112,6 +112,15 @@ pub enum RobotError {
         /// The link name looked for.
         link: String,
     },
+    /// A link named as contact geometry ([`super::RobotImportOptions::contact_links`]) does
+    /// not exist or does not move with the tool.
+    #[error("robot URDF contact link {link:?}: {reason}")]
+    InvalidContactLink {
+        /// The link named.
+        link: String,
+        /// What is wrong.
+        reason: String,
+    },
     /// A collision element uses a mesh; robot collision geometry must be primitives.
     #[error(
         "robot URDF link {link:?}: mesh collision {filename:?} is not supported (use box, cylinder, sphere or capsule)"

@@ -81,7 +81,7 @@ mod model;
 mod pinocchio;
 mod urdf;
 
-pub use collision::RobotCollision;
+pub use collision::{Exempt, RobotCollision};
 pub use error::RobotError;
 pub use model::{
     ArmJoint, ArmJointKind, BaseKind, DEFAULT_BASE_ACCELERATION, DEFAULT_BASE_VELOCITY,

@@ -124,6 +124,18 @@ pub struct RobotLink {
     pub name: String,
     /// Collision shapes in the link frame (primitives only).
     pub colliders: Vec<Collider>,
+    /// One flag per collider: `true` for the gripper's contact geometry (fingers, pads), the
+    /// only shapes allowed to touch a grasped part (see [`RobotImportOptions::contact_links`]).
+    pub contact: Vec<bool>,
+}
+
+impl RobotLink {
+    /// The link's colliders with their contact flags.
+    pub fn colliders_with_contact(&self) -> impl Iterator<Item = (&Collider, bool)> {
+        self.colliders
+            .iter()
+            .zip(self.contact.iter().copied().chain(std::iter::repeat(false)))
+    }
 }
 
 /// A configuration of the whole robot.
@@ -140,12 +152,24 @@ pub struct RobotConfig {
 pub struct RobotImportOptions {
     /// Name of the link whose frame is the tool frame (TCP). Default `"tool_frame"`.
     pub tool_link: String,
+    /// The URDF links whose collision elements are the gripper's contact geometry: the only
+    /// shapes allowed to touch a grasped part, and only while grasping. Each must be rigidly
+    /// attached below the last arm joint (it moves with the tool).
+    ///
+    /// `None` (the default) applies the naming convention: a collision element below the last
+    /// arm joint is contact geometry when the name of its URDF link or of the `<collision>`
+    /// element contains `finger` or `pad` (ASCII case-insensitive), as in the usual gripper
+    /// descriptions (`panda_leftfinger`, `left_inner_finger_pad`, `gripper_finger_link`).
+    /// `Some(vec![])` declares a robot without contact geometry: then no shape may touch a
+    /// grasped part.
+    pub contact_links: Option<Vec<String>>,
 }
 
 impl Default for RobotImportOptions {
     fn default() -> Self {
         RobotImportOptions {
             tool_link: "tool_frame".to_owned(),
+            contact_links: None,
         }
     }
 }

@@ -203,11 +203,28 @@ impl Tree {
             links: vec![RobotLink {
                 name: robot.links[base_link].name.clone(),
                 colliders: Vec::new(),
+                contact: Vec::new(),
             }],
+            contact: options.contact_links.as_deref(),
             owner: vec![None; robot.links.len()],
             base_from_arm_root: Isometry3::identity(),
         };
         walk.visit(base_link)?;
+        for name in options.contact_links.iter().flatten() {
+            let owner = self.links.get(name).map(|&l| walk.owner[l]);
+            let reason = match owner {
+                None => "no such link",
+                Some(None) => "not below the base link",
+                Some(Some((o, _))) if o != arm.len() => {
+                    "not rigidly attached below the last arm joint (it does not move with the tool)"
+                }
+                Some(Some(_)) => continue,
+            };
+            return Err(RobotError::InvalidContactLink {
+                link: name.clone(),
+                reason: reason.to_owned(),
+            });
+        }
         let (owner, last_from_tool) = walk.owner[tool].ok_or_else(|| RobotError::NotATree {
             reason: format!("tool link {:?} is not below the base", options.tool_link),
         })?;
@@ -233,6 +250,8 @@ struct Walk<'a> {
     /// Per URDF link: (robot link index, robot link frame from URDF link frame).
     owner: Vec<Option<(usize, Isometry3<f64>)>>,
     base_from_arm_root: Isometry3<f64>,
+    /// [`RobotImportOptions::contact_links`].
+    contact: Option<&'a [String]>,
 }
 
 impl Walk<'_> {
@@ -270,6 +289,7 @@ impl Walk<'_> {
             self.links.push(RobotLink {
                 name: self.robot.links[child].name.clone(),
                 colliders: Vec::new(),
+                contact: Vec::new(),
             });
             self.owner[child] = Some((k + 1, Isometry3::identity()));
             return Ok(());
@@ -308,11 +328,30 @@ impl Walk<'_> {
                 format!("link {:?} collision {index} origin", link.name)
             })?;
             let shape = shape(&link.name, index, &collision.geometry)?;
-            self.links[owner]
+            let contact = owner == self.arm.len() && self.is_contact(&link.name, collision);
+            let owner_link = &mut self.links[owner];
+            owner_link
                 .colliders
                 .push(Collider::new(shape, owner_from_link * pose));
+            owner_link.contact.push(contact);
         }
         Ok(())
+    }
+
+    /// Whether a collision element of URDF link `link` (owned by the last arm link) is contact
+    /// geometry: listed in the options, or named by the convention of
+    /// [`RobotImportOptions::contact_links`].
+    fn is_contact(&self, link: &str, collision: &urdf_rs::Collision) -> bool {
+        match self.contact {
+            Some(list) => list.iter().any(|l| l == link),
+            None => {
+                let named = |s: &str| {
+                    let s = s.to_ascii_lowercase();
+                    s.contains("finger") || s.contains("pad")
+                };
+                named(link) || collision.name.as_deref().is_some_and(named)
+            }
+        }
     }
 }
 

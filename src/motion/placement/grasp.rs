@@ -69,10 +69,16 @@ pub struct JointMotion {
     pub from: f64,
     /// The joint's value at the end.
     pub to: f64,
-    /// The joint's value at each waypoint: `from + (k / K)(to − from)`, `k = 0..=K`.
+    /// The joint's value at each waypoint: `from + (k / K)(to − from)`, `k = 0..=K` (and
+    /// `from` / `to` at the straight approach / retreat waypoints, see
+    /// [`JointMotion::with_approach`]).
     pub values: Vec<f64>,
-    /// The grasp frame at each waypoint (`K + 1`).
+    /// The grasp frame at each waypoint (`K + 1`, plus `2 · approach` straight ones).
     pub grasps: Vec<GraspFrame>,
+    /// Waypoints of the straight approach before the handle trajectory and, as many, of the
+    /// straight retreat after it (0: none). The handle trajectory is
+    /// [`JointMotion::trajectory`].
+    pub approach: usize,
 }
 
 impl JointMotion {
@@ -121,7 +127,62 @@ impl JointMotion {
             to,
             values,
             grasps,
+            approach: 0,
         })
+    }
+
+    /// The same motion with a straight approach and retreat of `steps` waypoints each, along
+    /// the handle's normal over `distance` (m): before the first grasp frame the tool comes in
+    /// from `distance` out along the first frame's outward normal (the *pre-grasp* frame
+    /// first), with the joint at `from`; after the last it backs out the same way along the
+    /// last frame's normal to the *post-grasp* frame, with the joint at `to`. Orientations are
+    /// the end frames'. `steps = 0` or `distance = 0` leaves the motion as it is; a motion
+    /// that has an approach already gets a second one outside it.
+    pub fn with_approach(mut self, distance: f64, steps: usize) -> JointMotion {
+        if steps == 0 || distance <= 0.0 {
+            return self;
+        }
+        let out = |g: &GraspFrame, i: usize| {
+            let shift = -g.approach.into_inner() * (distance * i as f64 / steps as f64);
+            let mut frame = *g;
+            frame.position += shift;
+            frame.world_from_tool.translation.vector += shift;
+            frame
+        };
+        let (first, last) = (self.grasps[0], self.grasps[self.grasps.len() - 1]);
+        let before = (1..=steps).rev().map(|i| out(&first, i));
+        let after = (1..=steps).map(|i| out(&last, i));
+        self.grasps = before
+            .chain(self.grasps.iter().copied())
+            .chain(after)
+            .collect();
+        self.values = std::iter::repeat_n(self.from, steps)
+            .chain(self.values.iter().copied())
+            .chain(std::iter::repeat_n(self.to, steps))
+            .collect();
+        self.approach += steps;
+        self
+    }
+
+    /// The index range of the handle trajectory's `K + 1` waypoints in
+    /// [`JointMotion::grasps`] (and in a placement's `arm`): after the straight approach,
+    /// before the straight retreat.
+    pub fn trajectory(&self) -> std::ops::RangeInclusive<usize> {
+        self.approach..=self.grasps.len() - 1 - self.approach
+    }
+
+    /// The same motion with every grasp point moved `standoff` (m) out along the handle's
+    /// outward normal (against the approach): a point rigidly attached to the part, so the
+    /// shifted trajectory is Eq. (3)–(5) of that point. The tool then stops short of the
+    /// handle's grasp point, so that fingertips reaching past the tool origin stay out of the
+    /// part's front.
+    pub fn with_standoff(mut self, standoff: f64) -> JointMotion {
+        for g in &mut self.grasps {
+            let shift = -g.approach.into_inner() * standoff;
+            g.position += shift;
+            g.world_from_tool.translation.vector += shift;
+        }
+        self
     }
 
     /// Number of waypoints, `K + 1`.

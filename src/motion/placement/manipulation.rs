@@ -10,7 +10,7 @@ use super::grasp::{GraspRotation, JointMotion};
 use super::plan::{ManipulationPlan, Obstacle, WaypointFailure};
 use super::{ManipulationSettings, PlacementError, PlacementProblem};
 use crate::kinematics::ik::{IkData, IkOutcome, IkTarget};
-use crate::kinematics::robot::{ArmJointKind, RobotConfig, RobotModel};
+use crate::kinematics::robot::{ArmJointKind, Exempt, RobotConfig, RobotModel};
 use crate::scene::collision::Body;
 use crate::scene::{PartId, SceneData, forward_kinematics};
 
@@ -49,6 +49,17 @@ pub fn arm_reach(robot: &RobotModel) -> ArmReach {
     }
 }
 
+/// Moves each continuous joint of `q` by a multiple of 2π to within π of `prev` (the IK
+/// wraps unlimited angles into [−π, π); a trajectory must not jump by 2π).
+fn unwrap_continuous(robot: &RobotModel, q: &mut DVector<f64>, prev: &DVector<f64>) {
+    for (j, joint) in robot.arm_joints().iter().enumerate() {
+        if joint.kind == ArmJointKind::Continuous {
+            let d = q[j] - prev[j];
+            q[j] = prev[j] + (d + PI).rem_euclid(2.0 * PI) - PI;
+        }
+    }
+}
+
 /// One waypoint's IK problem.
 struct Attempt<'a> {
     base: [f64; 3],
@@ -66,8 +77,8 @@ struct Attempt<'a> {
 pub(crate) struct Prepared<'a> {
     pub problem: PlacementProblem<'a>,
     pub motion: &'a JointMotion,
-    /// The joint's part and its descendants: ignored for the arm (the grasped part), checked
-    /// for the base links.
+    /// The joint's part and its descendants: the grasped part, which only the gripper's
+    /// contact shapes may touch.
     pub moving: Vec<PartId>,
     /// Scene FK at each waypoint.
     pub scene: Vec<SceneData>,
@@ -123,7 +134,8 @@ impl<'a> Prepared<'a> {
     }
 
     /// The first obstacle of the robot at `(base, q)` with the scene in `data`: self
-    /// collision; any link within `margin` of the scene, the moving parts excepted; the base
+    /// collision; any link within `margin` of the scene under the grasp contact rule (only the
+    /// gripper's contact shapes may touch the moving parts, see [`Exempt::Grasp`]); the base
     /// links within `margin` of the moving parts (which the base must not be in the way of).
     pub(crate) fn obstacle(
         &self,
@@ -142,7 +154,7 @@ impl<'a> Prepared<'a> {
         }
         if let Some((link, body)) =
             p.collision
-                .scene_collision(&poses, p.model, data, &self.moving, margin)
+                .scene_collision(&poses, p.model, data, Exempt::Grasp(&self.moving), margin)
         {
             return Ok(Some(Obstacle::Scene { link, body }));
         }
@@ -162,8 +174,13 @@ impl<'a> Prepared<'a> {
     ) -> Option<(usize, Body)> {
         let p = &self.problem;
         let n = p.collision.base_links().iter().max().map_or(1, |m| m + 1);
-        p.collision
-            .scene_collision(&poses[..n.min(poses.len())], p.model, data, &[], margin)
+        p.collision.scene_collision(
+            &poses[..n.min(poses.len())],
+            p.model,
+            data,
+            Exempt::Nothing,
+            margin,
+        )
     }
 
     /// Position and rotation error of the tool at `(base, q)` w.r.t. waypoint `k`, from the
@@ -183,6 +200,38 @@ impl<'a> Prepared<'a> {
             }
         };
         (position, angle)
+    }
+
+    /// Whether the tool follows the handle path from waypoint `k − 1` (at `prev`) to `k` (at
+    /// `q`) with the arm interpolated linearly: at `t = i/8`, `i = 1..=7`, within
+    /// [`ManipulationSettings::tracking_tolerance`] of the straight line between the grasp
+    /// points and with its approach axis within
+    /// [`ManipulationSettings::tracking_angle`] of the normalised interpolated approach.
+    fn tracks(
+        &self,
+        base: [f64; 3],
+        prev: &DVector<f64>,
+        q: &DVector<f64>,
+        k: usize,
+        settings: &ManipulationSettings,
+    ) -> Result<bool, PlacementError> {
+        let (a, b) = (&self.motion.grasps[k - 1], &self.motion.grasps[k]);
+        for i in 1..8 {
+            let t = i as f64 / 8.0;
+            let tool = self.problem.robot.world_from_tool(&RobotConfig {
+                base,
+                arm: prev + (q - prev) * t,
+            })?;
+            let want = a.position.coords.lerp(&b.position.coords, t);
+            let approach = a.approach.lerp(&b.approach, t);
+            let z = tool.rotation * Vector3::z();
+            if (tool.translation.vector - want).norm() > settings.tracking_tolerance
+                || z.angle(&approach) > settings.tracking_angle
+            {
+                return Ok(false);
+            }
+        }
+        Ok(true)
     }
 
     /// Checks waypoint `k` at `(base, q)` against everything but IK convergence: tolerance,
@@ -226,7 +275,7 @@ impl<'a> Prepared<'a> {
                         (0, 0.0),
                         |best, (j, d)| if d > best.1 { (j, d) } else { best },
                     );
-            if jump > settings.max_joint_jump {
+            if jump > settings.max_joint_jump && !self.tracks(base, prev, q, k, settings)? {
                 return Ok(Some(WaypointFailure::Jump { joint, jump }));
             }
         }
@@ -249,17 +298,6 @@ impl<'a> Prepared<'a> {
             }
         }
         Ok(None)
-    }
-
-    /// Moves each continuous joint of `q` by a multiple of 2π to within π of `prev` (the IK
-    /// wraps unlimited angles into [−π, π); the trajectory must not jump by 2π).
-    pub(crate) fn unwrap_continuous(&self, q: &mut DVector<f64>, prev: &DVector<f64>) {
-        for (j, joint) in self.problem.robot.arm_joints().iter().enumerate() {
-            if joint.kind == ArmJointKind::Continuous {
-                let d = q[j] - prev[j];
-                q[j] = prev[j] + (d + PI).rem_euclid(2.0 * PI) - PI;
-            }
-        }
     }
 
     /// The configuration for one waypoint and why it fails, if it does. Continuing from a
@@ -290,7 +328,7 @@ impl<'a> Prepared<'a> {
             let result = match outcome {
                 IkOutcome::Converged { mut q, .. } => {
                     if a.k > 0 {
-                        self.unwrap_continuous(&mut q, a.start);
+                        unwrap_continuous(self.problem.robot, &mut q, a.start);
                     }
                     let failure =
                         self.check_waypoint(a.base, &q, a.k, a.continuing, settings, scratch)?;
@@ -303,7 +341,7 @@ impl<'a> Prepared<'a> {
                     ..
                 } => {
                     if a.k > 0 {
-                        self.unwrap_continuous(&mut best, a.start);
+                        unwrap_continuous(self.problem.robot, &mut best, a.start);
                     }
                     let failure = WaypointFailure::NotConverged {
                         position_error,

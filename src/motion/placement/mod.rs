@@ -96,6 +96,7 @@ pub use settings::{
 
 use crate::kinematics::ik::IkSolver;
 use crate::kinematics::robot::{RobotCollision, RobotModel};
+use crate::scene::collision::handle_standoff;
 use crate::scene::{HandleId, JointId, PartId, SceneModel, State};
 use manipulation::Prepared;
 use sampled::Stop;
@@ -152,7 +153,9 @@ pub struct PlacementOutcome {
     /// The chosen base pose: x (m), y (m), yaw (rad). When every sample collided, the robot's
     /// current position facing the handle (and nothing is reached).
     pub base: [f64; 3],
-    /// The arm configuration at each waypoint (`K + 1`).
+    /// The arm configuration at each waypoint of [`JointMotion::grasps`] (`K + 1` on the
+    /// handle trajectory, [`JointMotion::trajectory`], after the straight approach and before
+    /// the straight retreat).
     pub arm: Vec<DVector<f64>>,
     /// Whether each waypoint is reached (see the [module docs](self)).
     pub reached: Vec<bool>,
@@ -327,7 +330,13 @@ pub fn place_and_plan_cancellable(
         handle,
         to,
         settings.steps,
-    )?;
+    )?
+    .with_standoff(grasp_standoff(
+        &problem,
+        handle,
+        settings.manipulation.finger_clearance,
+    )?)
+    .with_approach(settings.approach_distance, settings.approach_steps);
     let mut prepared = Prepared::new(problem, &motion, settings.grasp)?;
     prepared.cancel = cancel;
     let seed = problem.robot.neutral();
@@ -423,4 +432,23 @@ pub fn place_and_plan_cancellable(
         elapsed: start.elapsed(),
         stats,
     })
+}
+
+/// How far the tool stops short of `handle`'s grasp point (m, out along the normal): what the
+/// gripper's fingertips ([`RobotCollision::fingertip_reach`]) plus `clearance` reach past the
+/// handle's standoff from its part's front; 0 for a robot without contact geometry or a
+/// handle with no front behind it.
+///
+/// # Errors
+/// [`PlacementError::Scene`] for a foreign handle id.
+pub fn grasp_standoff(
+    problem: &PlacementProblem<'_>,
+    handle: HandleId,
+    clearance: f64,
+) -> Result<f64, PlacementError> {
+    let Some(tip) = problem.collision.fingertip_reach(problem.robot) else {
+        return Ok(0.0);
+    };
+    let need = tip.max(0.0) + clearance;
+    Ok(handle_standoff(problem.model, handle, need)?.map_or(0.0, |front| (need - front).max(0.0)))
 }

@@ -25,8 +25,19 @@ pub enum PlacementMethod {
 #[derive(Debug, Clone, PartialEq)]
 pub struct ManipulationSettings {
     /// Largest change of any arm joint between consecutive waypoints (rad or m), > 0. A larger
-    /// jump makes the later waypoint count as not reached. Default 0.35.
+    /// jump makes the later waypoint count as not reached unless the tool tracks the handle
+    /// path along it ([`ManipulationSettings::tracking_tolerance`]). Default 0.35.
     pub max_joint_jump: f64,
+    /// A larger joint change than `max_joint_jump` between consecutive waypoints is accepted
+    /// when, with the arm interpolated linearly between them, the tool stays within this
+    /// distance (m) of the straight line between the two grasp points and its approach axis
+    /// within [`ManipulationSettings::tracking_angle`] of the interpolated approach, at 7
+    /// points along the segment: a fast but continuous motion (a wrist swinging near a
+    /// singularity), not a jump to another IK branch, which leaves the handle. > 0, default
+    /// 0.01.
+    pub tracking_tolerance: f64,
+    /// The angle bound (rad) of that test, > 0, default 0.1.
+    pub tracking_angle: f64,
     /// Spacing of the collision checks between consecutive waypoints: the straight joint-space
     /// segment (and the part's value, linearly) is checked at steps of at most this much in
     /// every joint (rad or m), > 0. Default 0.05.
@@ -44,17 +55,26 @@ pub struct ManipulationSettings {
     /// solution fails a check: the seed with the last arm joint turned by `2π·i/roll_attempts`
     /// (another gripper roll, e.g. fingers clear of a neighbouring door), >= 1. Default 4.
     pub roll_attempts: usize,
+    /// Gap (m) the fingertips keep from the grasped part's front, >= 0. The tool goes to the
+    /// handle's grasp point unless the gripper's contact shapes reach farther past the tool
+    /// origin than the handle stands off the front
+    /// ([`handle_standoff`](crate::scene::collision::handle_standoff)) less this gap; then it
+    /// stops that much short, out along the normal. Default 0.005.
+    pub finger_clearance: f64,
 }
 
 impl Default for ManipulationSettings {
     fn default() -> Self {
         ManipulationSettings {
             max_joint_jump: 0.35,
+            tracking_tolerance: 0.01,
+            tracking_angle: 0.1,
             segment_resolution: 0.05,
             margin: 0.005,
             position_tolerance: 1e-5,
             rotation_tolerance: 1e-4,
             roll_attempts: 4,
+            finger_clearance: 0.005,
         }
     }
 }
@@ -180,6 +200,14 @@ pub struct PlacementSettings {
     pub sampling: SamplingSettings,
     /// The optimiser (used by [`PlacementMethod::Optimised`]).
     pub optimisation: OptimisationSettings,
+    /// Length (m) of the straight approach to the first grasp frame and of the straight
+    /// retreat from the last, along the handle's normal, >= 0 (default 0.10; 0: none). The
+    /// base pose is chosen for the whole sequence: pre-grasp, approach, handle trajectory,
+    /// retreat, post-grasp ([`JointMotion::with_approach`](super::JointMotion::with_approach)).
+    pub approach_distance: f64,
+    /// Waypoints of the straight approach and of the retreat each (default 5: every 2 cm of
+    /// the default distance); 0 with a positive distance is rejected.
+    pub approach_steps: usize,
 }
 
 impl Default for PlacementSettings {
@@ -191,6 +219,8 @@ impl Default for PlacementSettings {
             manipulation: ManipulationSettings::default(),
             sampling: SamplingSettings::default(),
             optimisation: OptimisationSettings::default(),
+            approach_distance: 0.10,
+            approach_steps: 5,
         }
     }
 }
@@ -241,10 +271,13 @@ impl ManipulationSettings {
     /// [`PlacementError::InvalidSetting`] naming the field.
     pub fn validate(&self) -> Result<(), PlacementError> {
         positive("manipulation.max_joint_jump", self.max_joint_jump)?;
+        positive("manipulation.tracking_tolerance", self.tracking_tolerance)?;
+        positive("manipulation.tracking_angle", self.tracking_angle)?;
         positive("manipulation.segment_resolution", self.segment_resolution)?;
         non_negative("manipulation.margin", self.margin)?;
         positive("manipulation.position_tolerance", self.position_tolerance)?;
         positive("manipulation.rotation_tolerance", self.rotation_tolerance)?;
+        non_negative("manipulation.finger_clearance", self.finger_clearance)?;
         if self.roll_attempts == 0 {
             return Err(PlacementError::InvalidSetting {
                 what: "manipulation.roll_attempts",
@@ -345,6 +378,14 @@ impl PlacementSettings {
                 what: "steps",
                 value: self.steps as f64,
                 reason: "must be in 1..=1000",
+            });
+        }
+        non_negative("approach_distance", self.approach_distance)?;
+        if self.approach_distance > 0.0 && self.approach_steps == 0 {
+            return Err(PlacementError::InvalidSetting {
+                what: "approach_steps",
+                value: 0.0,
+                reason: "must be >= 1 with a positive approach_distance",
             });
         }
         self.manipulation.validate()?;

@@ -4,7 +4,7 @@ use std::fmt;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use nalgebra::{Isometry3, Point3, Vector3};
-use parry3d_f64::query;
+use parry3d_f64::query::{self, Ray};
 use parry3d_f64::shape::{Ball, Capsule, Cuboid, Cylinder, SharedShape};
 
 use super::convert;
@@ -107,6 +107,21 @@ impl CompiledShape {
             Point3::from(convert::from_vector(&proj.point)),
             proj.is_inside,
         )
+    }
+
+    /// parry's solid `cast_ray` from the world point `origin` along the unit `dir`, for an
+    /// owner at `world_from_owner`: the distance to the first surface point within `max` (0 if
+    /// `origin` is inside), or `None`.
+    pub(crate) fn cast_ray(
+        &self,
+        world_from_owner: &Isometry3<f64>,
+        origin: &Point3<f64>,
+        dir: &Vector3<f64>,
+        max: f64,
+    ) -> Option<f64> {
+        let pose = convert::pose(&(world_from_owner * self.owner_from_parry));
+        let ray = Ray::new(convert::point(origin), convert::vector(dir));
+        self.shape.cast_ray(&pose, &ray, max, true)
     }
 
     /// The bounding sphere's centre in the world, given the owner's world pose.

@@ -14,8 +14,10 @@ pub(crate) mod geometry;
 mod query;
 mod search;
 mod settings;
+mod standoff;
 mod sweep;
 
 pub use query::{Contact, collisions, collisions_of, distances, is_collision_free};
 pub use settings::{AllowedCollisions, Body, CollisionSettings, SweepSettings};
+pub use standoff::handle_standoff;
 pub use sweep::{InconclusiveReason, SweepOutcome, SweepStatus, check_joint_motion};

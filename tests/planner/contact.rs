@@ -1,0 +1,984 @@
+//! An independent re-checker of motion plans under the grasp contact rule, and tests that use it.
+//!
+//! The rule: only the gripper's contact shapes (the collision elements `finger_left` and
+//! `finger_right` of link `robotiq_2f_140`) may touch the grasped part (the moved joint's part
+//! and its descendants), and only from the pre-grasp configuration through the manipulation to
+//! the post-grasp configuration. Every other robot shape never touches anything (base map
+//! shapes, any part, the grasped part included), in any phase; the fingers never touch
+//! anything else, and touch nothing at all in the free (OMPL) phases. While the fingers may
+//! touch the grasped part, they must not penetrate its *front* (its collision shapes that do not
+//! strictly contain the handle's grasp point) by more than [`MAX_FRONT_DEPTH`].
+//!
+//! Nothing here shares code with the planner's collision checking: the robot's collision
+//! geometry is parsed from the URDF with urdf-rs and built as parry shapes by this file (fixed
+//! joints composed here), the scene's shapes are converted to parry here, and distances and
+//! penetration depths come from `parry3d_f64::query` directly. Two lower layers are used as
+//! they are, each tested on its own: Pinocchio's forward kinematics of the arm (through the
+//! planner's Pinocchio model of the robot, tests/kinematics) and the scene tree's forward
+//! kinematics (`kinscene::scene::forward_kinematics`, tests/scene).
+
+use std::fmt;
+use std::sync::OnceLock;
+use std::time::{Duration, Instant};
+
+use kinscene::kinematics::pinocchio::{
+    Data, JointIndex, Model, forward_kinematics as arm_fk, joint_placement,
+};
+use kinscene::planner::{HierarchicalPlanner, MotionOutcome, MotionPlan, StepMotion};
+use kinscene::scene::{
+    Handle, Joint, Limits, PartSpec, SceneData, SceneModel, SceneModelBuilder, Shape, State,
+    forward_kinematics as scene_fk,
+};
+use kinscene::task::{Problem, Termination};
+use nalgebra::{DVector, Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
+use parry3d_f64::math::{Pose, Rotation, Vector};
+use parry3d_f64::query;
+use parry3d_f64::shape::{Ball, Capsule, ConvexPolyhedron, Cuboid, Cylinder, Shape as ParryShape};
+
+/// Largest allowed penetration (m) of a finger into the grasped part's front.
+pub(super) const MAX_FRONT_DEPTH: f64 = 1e-3;
+/// Largest arm joint change (rad or m) between two samples.
+const ARM_STEP: f64 = 0.005;
+/// Largest base translation (m) between two samples.
+const BASE_STEP: f64 = 0.005;
+/// Largest base yaw change (rad) between two samples.
+const YAW_STEP: f64 = 0.005;
+/// Largest change of the moved scene joint (rad or m) between two manipulation samples.
+const SCENE_STEP: f64 = 0.005;
+/// Distances below this (m) count as touching: parry returns 0 for touching or overlapping
+/// shapes; the tolerance only keeps round-off from hiding an exact touch.
+const TOUCH: f64 = 1e-9;
+/// The robot's URDF, read by this file (not through `RobotModel`).
+const ROBOT_URDF: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/robots/kinova_gen3_mobile.urdf"
+);
+/// The link and collision names of the gripper's contact shapes.
+const FINGER_LINK: &str = "robotiq_2f_140";
+const FINGERS: [&str; 2] = ["finger_left", "finger_right"];
+
+// ---------------------------------------------------------------------------------------------
+// Verdicts
+
+/// What a sample did wrong.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Breach {
+    /// A robot shape that must not touch the body does (parry distance, m, below [`TOUCH`]).
+    Touch {
+        /// The distance (m).
+        distance: f64,
+    },
+    /// A finger penetrates the grasped part's front by more than [`MAX_FRONT_DEPTH`].
+    FrontPenetration {
+        /// The penetration depth (m).
+        depth: f64,
+    },
+}
+
+/// The phases of a step, in order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Phase {
+    /// Driving, arm stowed (free).
+    Base,
+    /// Stowed to the grasp: free up to the pre-grasp configuration, contact from it on.
+    Approach,
+    /// Along the handle trajectory (contact).
+    Manipulation,
+    /// Back to stowed: contact up to the post-grasp configuration, free after it.
+    Retreat,
+}
+
+impl fmt::Display for Phase {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Phase::Base => "base",
+            Phase::Approach => "approach",
+            Phase::Manipulation => "manipulation",
+            Phase::Retreat => "retreat",
+        })
+    }
+}
+
+/// The first sample of a plan that breaks the contact rule.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Violation {
+    /// Index of the step in the plan.
+    pub step: usize,
+    /// The phase.
+    pub phase: Phase,
+    /// Position along the phase's waypoints: waypoint index plus the fraction of the segment.
+    pub at: f64,
+    /// Whether the sample lies in the contact part of the step (pre-grasp to post-grasp).
+    pub contact_phase: bool,
+    /// The sampled configuration: base `[x, y, yaw]` in the base phase, else the arm's joints.
+    pub config: Vec<f64>,
+    /// The moved scene joint's value at the sample.
+    pub scene_value: f64,
+    /// The robot shape, `link/collision` (unnamed collisions as `link/#index`).
+    pub robot_shape: String,
+    /// The body touched: a base map shape's name or a part's name.
+    pub body: String,
+    /// What happened.
+    pub breach: Breach,
+}
+
+impl fmt::Display for Violation {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let config: Vec<String> = self.config.iter().map(|v| format!("{v:.4}")).collect();
+        write!(
+            f,
+            "step {} {} at waypoint {:.3} ({} part; config [{}], scene joint at {:.4}): ",
+            self.step,
+            self.phase,
+            self.at,
+            if self.contact_phase {
+                "contact"
+            } else {
+                "free"
+            },
+            config.join(", "),
+            self.scene_value,
+        )?;
+        match self.breach {
+            Breach::Touch { distance } => write!(
+                f,
+                "robot shape {} touches {} (distance {distance:.3e} m)",
+                self.robot_shape, self.body
+            ),
+            Breach::FrontPenetration { depth } => write!(
+                f,
+                "finger {} penetrates the front of {} by {:.2} mm (at most {:.2} mm allowed)",
+                self.robot_shape,
+                self.body,
+                depth * 1e3,
+                MAX_FRONT_DEPTH * 1e3
+            ),
+        }
+    }
+}
+
+/// What a passing plan looked like.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Report {
+    /// Samples checked, all phases of all steps.
+    pub samples: usize,
+    /// Of them, samples in contact parts.
+    pub contact_samples: usize,
+    /// Smallest distance (m) between a robot shape and a body it must not touch.
+    pub min_clearance: f64,
+    /// Where: `robot shape vs body (step, phase)`.
+    pub min_clearance_between: String,
+    /// Deepest penetration (m) of a finger into the grasped part's front (0 if none).
+    pub max_front_depth: f64,
+}
+
+impl fmt::Display for Report {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{} samples ({} in contact parts); min clearance {:.4} m ({}); deepest finger in a \
+             front {:.2} mm",
+            self.samples,
+            self.contact_samples,
+            self.min_clearance,
+            self.min_clearance_between,
+            self.max_front_depth * 1e3
+        )
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Geometry, converted to parry by this file
+
+/// A nalgebra isometry as a parry pose.
+fn to_pose(iso: &Isometry3<f64>) -> Pose {
+    let q = iso.rotation.quaternion();
+    let t = iso.translation.vector;
+    Pose::from_parts(
+        Vector::new(t.x, t.y, t.z),
+        Rotation::from_xyzw(q.i, q.j, q.k, q.w),
+    )
+}
+
+fn to_vector(p: &Point3<f64>) -> Vector {
+    Vector::new(p.x, p.y, p.z)
+}
+
+/// A parry shape with the pose of the parry frame in the frame of the shape's description
+/// (parry's cylinder runs along y, URDF's and the scene's along z) and a bounding sphere in that
+/// description frame.
+struct Solid {
+    shape: Box<dyn ParryShape>,
+    /// Description frame from parry frame.
+    fix: Isometry3<f64>,
+    center: Point3<f64>,
+    radius: f64,
+}
+
+impl Solid {
+    fn new(shape: Box<dyn ParryShape>, fix: Isometry3<f64>) -> Solid {
+        let s = shape.compute_local_bounding_sphere();
+        let c = s.center();
+        Solid {
+            fix,
+            center: fix * Point3::new(c.x, c.y, c.z),
+            radius: s.radius(),
+            shape,
+        }
+    }
+
+    fn cuboid(half: Vector3<f64>) -> Solid {
+        Solid::new(
+            Box::new(Cuboid::new(Vector::new(half.x, half.y, half.z))),
+            Isometry3::identity(),
+        )
+    }
+
+    /// A cylinder along z.
+    fn cylinder(radius: f64, length: f64) -> Solid {
+        // Rotating parry's y axis onto z: a quarter turn about x.
+        let fix = Isometry3::rotation(Vector3::x() * std::f64::consts::FRAC_PI_2);
+        Solid::new(Box::new(Cylinder::new(length / 2.0, radius)), fix)
+    }
+
+    /// A capsule along z whose central segment is `length` long.
+    fn capsule(radius: f64, length: f64) -> Solid {
+        Solid::new(
+            Box::new(Capsule::new_z(length / 2.0, radius)),
+            Isometry3::identity(),
+        )
+    }
+
+    fn ball(radius: f64) -> Solid {
+        Solid::new(Box::new(Ball::new(radius)), Isometry3::identity())
+    }
+
+    /// The scene's shapes.
+    fn of_scene(shape: &Shape) -> Solid {
+        match shape {
+            Shape::Cuboid { half_extents } => Solid::cuboid(*half_extents),
+            Shape::Cylinder { radius, length } => Solid::cylinder(*radius, *length),
+            Shape::Sphere { radius } => Solid::ball(*radius),
+            Shape::Capsule { radius, length } => Solid::capsule(*radius, *length),
+            Shape::ConvexMesh { vertices, .. } => {
+                let points: Vec<Vector> = vertices.iter().map(to_vector).collect();
+                let hull = ConvexPolyhedron::from_convex_hull(&points)
+                    .expect("a scene mesh spans a volume");
+                Solid::new(Box::new(hull), Isometry3::identity())
+            }
+            other => panic!("the re-checker does not know the scene shape {other:?}"),
+        }
+    }
+}
+
+/// What a robot shape moves with.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Anchor {
+    /// The mobile base (the URDF root link and everything fixed to it).
+    Base,
+    /// The child link of this Pinocchio joint (the link's frame is the joint's frame).
+    Joint(JointIndex),
+}
+
+/// One collision element of the robot.
+struct RobotShape {
+    name: String,
+    contact: bool,
+    anchor: Anchor,
+    anchor_from_shape: Isometry3<f64>,
+    solid: Solid,
+}
+
+/// The URDF's `<origin>`: translation, then fixed-axis roll-pitch-yaw
+/// `R = Rz(yaw)·Ry(pitch)·Rx(roll)`.
+fn urdf_pose(pose: &urdf_rs::Pose) -> Isometry3<f64> {
+    let [x, y, z] = pose.xyz.0;
+    let [roll, pitch, yaw] = pose.rpy.0;
+    Isometry3::from_parts(
+        Translation3::new(x, y, z),
+        UnitQuaternion::from_euler_angles(roll, pitch, yaw),
+    )
+}
+
+/// The robot's collision shapes, from `robots/kinova_gen3_mobile.urdf`: each anchored to the
+/// base or to the Pinocchio joint whose child link carries it (through fixed joints).
+fn robot_shapes(pin: &Model) -> Vec<RobotShape> {
+    let urdf = urdf_rs::read_file(ROBOT_URDF).expect("the robot's URDF parses");
+    // The root: the one link that is no joint's child. It is the mobile base.
+    let roots: Vec<&urdf_rs::Link> = urdf
+        .links
+        .iter()
+        .filter(|l| !urdf.joints.iter().any(|j| j.child.link == l.name))
+        .collect();
+    assert_eq!(roots.len(), 1, "the robot URDF is a tree with one root");
+    let mut out = Vec::new();
+    let mut moving = 0;
+    // Depth-first from the root: (link, anchor, anchor_from_link).
+    let mut todo = vec![(roots[0].name.clone(), Anchor::Base, Isometry3::identity())];
+    while let Some((name, anchor, anchor_from_link)) = todo.pop() {
+        let link = urdf
+            .links
+            .iter()
+            .find(|l| l.name == name)
+            .expect("every joint's child is a link");
+        for (i, c) in link.collision.iter().enumerate() {
+            let solid = match &c.geometry {
+                urdf_rs::Geometry::Box { size } => {
+                    Solid::cuboid(Vector3::new(size[0], size[1], size[2]) / 2.0)
+                }
+                urdf_rs::Geometry::Cylinder { radius, length } => Solid::cylinder(*radius, *length),
+                urdf_rs::Geometry::Capsule { radius, length } => Solid::capsule(*radius, *length),
+                urdf_rs::Geometry::Sphere { radius } => Solid::ball(*radius),
+                urdf_rs::Geometry::Mesh { filename, .. } => {
+                    panic!("the robot's collision geometry is primitives, not {filename}")
+                }
+            };
+            let label = c.name.clone().unwrap_or_else(|| format!("#{i}"));
+            let contact = link.name == FINGER_LINK && FINGERS.contains(&label.as_str());
+            out.push(RobotShape {
+                name: format!("{}/{label}", link.name),
+                contact,
+                anchor,
+                anchor_from_shape: anchor_from_link * urdf_pose(&c.origin),
+                solid,
+            });
+        }
+        for joint in urdf.joints.iter().filter(|j| j.parent.link == name) {
+            let child = joint.child.link.clone();
+            match joint.joint_type {
+                urdf_rs::JointType::Fixed => {
+                    todo.push((child, anchor, anchor_from_link * urdf_pose(&joint.origin)));
+                }
+                urdf_rs::JointType::Revolute
+                | urdf_rs::JointType::Continuous
+                | urdf_rs::JointType::Prismatic => {
+                    let index = pin
+                        .joint_index(&joint.name)
+                        .unwrap_or_else(|| panic!("arm joint {:?} in Pinocchio", joint.name));
+                    moving += 1;
+                    todo.push((child, Anchor::Joint(index), Isometry3::identity()));
+                }
+                ref other => panic!("joint {:?}: unexpected type {other:?}", joint.name),
+            }
+        }
+    }
+    assert_eq!(
+        moving + 1,
+        pin.njoints(),
+        "every Pinocchio joint (besides the universe) is a URDF joint"
+    );
+    let fingers = out.iter().filter(|s| s.contact).count();
+    assert_eq!(fingers, FINGERS.len(), "both fingers found");
+    out
+}
+
+/// `world_from_base` of a base pose `[x, y, yaw]`: the yaw about z, then the translation in the
+/// floor plane.
+fn world_from_base(base: &[f64]) -> Isometry3<f64> {
+    Isometry3::from_parts(
+        Translation3::new(base[0], base[1], 0.0),
+        UnitQuaternion::from_axis_angle(&Vector3::z_axis(), base[2]),
+    )
+}
+
+/// One scene collider.
+struct SceneBody {
+    /// Base map shape or part name.
+    name: String,
+    /// `None` for a base map shape.
+    part: Option<usize>,
+    /// World (base shape) or part frame (part collider) from the shape frame.
+    from_shape: Isometry3<f64>,
+    solid: Solid,
+}
+
+fn scene_bodies(model: &SceneModel) -> Vec<SceneBody> {
+    let mut out: Vec<SceneBody> = model
+        .base()
+        .shapes
+        .iter()
+        .map(|s| SceneBody {
+            name: s.name.clone(),
+            part: None,
+            from_shape: s.world_from_shape,
+            solid: Solid::of_scene(&s.shape),
+        })
+        .collect();
+    for (k, part) in model.parts().iter().enumerate() {
+        for c in part.colliders() {
+            out.push(SceneBody {
+                name: part.name().to_owned(),
+                part: Some(k),
+                from_shape: c.part_from_shape,
+                solid: Solid::of_scene(&c.shape),
+            });
+        }
+    }
+    out
+}
+
+// ---------------------------------------------------------------------------------------------
+// The checker
+
+/// One sampled robot configuration, world poses of the parry frames and bounding spheres.
+struct Placed {
+    poses: Vec<Pose>,
+    centers: Vec<Point3<f64>>,
+}
+
+/// Where a sample is.
+struct Sample<'s> {
+    step: usize,
+    phase: Phase,
+    at: f64,
+    contact: bool,
+    config: &'s [f64],
+    scene_value: f64,
+}
+
+impl<'s> Sample<'s> {
+    fn new(
+        step: usize,
+        phase: Phase,
+        at: f64,
+        contact: bool,
+        config: &'s [f64],
+        scene_value: f64,
+    ) -> Sample<'s> {
+        Sample {
+            step,
+            phase,
+            at,
+            contact,
+            config,
+            scene_value,
+        }
+    }
+}
+
+struct Checker<'a> {
+    model: &'a SceneModel,
+    pin: &'a Model,
+    data: Data,
+    robot: Vec<RobotShape>,
+    bodies: Vec<SceneBody>,
+    scene: SceneData,
+    /// Per body, for the current step: whether it belongs to the grasped part.
+    grasped: Vec<bool>,
+    /// Per body, for the current step: whether it is part of the grasped part's front.
+    front: Vec<bool>,
+    /// World poses and bounding-sphere centres of the bodies at the current scene state.
+    body_poses: Vec<Pose>,
+    body_centers: Vec<Point3<f64>>,
+    /// Joint placements in the base frame for `arm` (Pinocchio's root frame is the base).
+    arm: Option<Vec<f64>>,
+    base_from_joint: Vec<Isometry3<f64>>,
+    report: Report,
+}
+
+impl<'a> Checker<'a> {
+    fn new(planner: &'a HierarchicalPlanner, model: &'a SceneModel) -> Checker<'a> {
+        let pin = planner.robot().pinocchio();
+        let bodies = scene_bodies(model);
+        let n = bodies.len();
+        Checker {
+            model,
+            pin,
+            data: Data::new(pin).expect("Pinocchio data"),
+            robot: robot_shapes(pin),
+            bodies,
+            scene: SceneData::new(model),
+            grasped: vec![false; n],
+            front: vec![false; n],
+            body_poses: Vec::new(),
+            body_centers: Vec::new(),
+            arm: None,
+            base_from_joint: Vec::new(),
+            report: Report {
+                samples: 0,
+                contact_samples: 0,
+                min_clearance: f64::INFINITY,
+                min_clearance_between: String::new(),
+                max_front_depth: 0.0,
+            },
+        }
+    }
+
+    /// Scene forward kinematics at `state`, and the bodies' world poses.
+    fn set_scene(&mut self, state: &State) {
+        scene_fk(self.model, &mut self.scene, state).expect("scene forward kinematics");
+        let parts = self.scene.world_from_parts();
+        self.body_poses.clear();
+        self.body_centers.clear();
+        for b in &self.bodies {
+            let world_from_shape = match b.part {
+                None => b.from_shape,
+                Some(k) => parts[k] * b.from_shape,
+            };
+            self.body_poses
+                .push(to_pose(&(world_from_shape * b.solid.fix)));
+            self.body_centers.push(world_from_shape * b.solid.center);
+        }
+    }
+
+    /// The grasped part and its front for a step grasping `handle` of the part moved by
+    /// `joint`, with the scene set to the step's start state.
+    fn set_grasp(&mut self, joint: &str, handle: &str) {
+        let joint = self.model.joint_id(joint).expect("the step's joint");
+        let moved = &self.model.parts()[joint.part().index()];
+        let handle = self.model.handle_id(handle).expect("the step's handle");
+        let h = self.model.handle(handle).expect("handle");
+        let p = self.scene.world_from_parts()[handle.part().index()] * h.position;
+        let p = to_vector(&p);
+        for (i, b) in self.bodies.iter().enumerate() {
+            let grasped = b
+                .part
+                .is_some_and(|k| moved.subtree_contains(self.model.parts()[k].id()));
+            self.grasped[i] = grasped;
+            self.front[i] = grasped && {
+                let proj = b.solid.shape.project_point(&self.body_poses[i], p, false);
+                // Strictly inside: inside, and not on the boundary.
+                let strictly = proj.is_inside && (proj.point - p).length() > TOUCH;
+                !strictly
+            };
+        }
+    }
+
+    /// World poses of the robot's shapes at `base` and `arm`.
+    fn place(&mut self, base: &[f64], arm: &[f64]) -> Placed {
+        if self.arm.as_deref() != Some(arm) {
+            let q = DVector::from_column_slice(arm);
+            arm_fk(self.pin, &mut self.data, &q).expect("Pinocchio forward kinematics");
+            self.base_from_joint = (0..self.pin.njoints())
+                .map(|j| joint_placement(self.pin, &self.data, JointIndex(j)).expect("placement"))
+                .collect();
+            self.arm = Some(arm.to_vec());
+        }
+        let world_from_base = world_from_base(base);
+        let mut poses = Vec::with_capacity(self.robot.len());
+        let mut centers = Vec::with_capacity(self.robot.len());
+        for r in &self.robot {
+            let base_from_anchor = match r.anchor {
+                Anchor::Base => Isometry3::identity(),
+                Anchor::Joint(j) => self.base_from_joint[j.0],
+            };
+            let world_from_shape = world_from_base * base_from_anchor * r.anchor_from_shape;
+            poses.push(to_pose(&(world_from_shape * r.solid.fix)));
+            centers.push(world_from_shape * r.solid.center);
+        }
+        Placed { poses, centers }
+    }
+
+    /// Checks one sample against the rule.
+    fn check(&mut self, placed: &Placed, s: &Sample<'_>) -> Result<(), Violation> {
+        self.report.samples += 1;
+        if s.contact {
+            self.report.contact_samples += 1;
+        }
+        let violation = |r: &RobotShape, b: &SceneBody, breach: Breach| Violation {
+            step: s.step,
+            phase: s.phase,
+            at: s.at,
+            contact_phase: s.contact,
+            config: s.config.to_vec(),
+            scene_value: s.scene_value,
+            robot_shape: r.name.clone(),
+            body: b.name.clone(),
+            breach,
+        };
+        for (ri, r) in self.robot.iter().enumerate() {
+            for (bi, b) in self.bodies.iter().enumerate() {
+                // Broad phase: the gap between the bounding spheres bounds the distance below.
+                let gap = (placed.centers[ri] - self.body_centers[bi]).norm()
+                    - r.solid.radius
+                    - b.solid.radius;
+                let may_touch = r.contact && s.contact && self.grasped[bi];
+                if may_touch {
+                    if !self.front[bi] || gap > 0.0 {
+                        continue;
+                    }
+                    let c = query::contact(
+                        &placed.poses[ri],
+                        r.solid.shape.as_ref(),
+                        &self.body_poses[bi],
+                        b.solid.shape.as_ref(),
+                        0.0,
+                    )
+                    .expect("parry supports the pair");
+                    let depth = c.map_or(0.0, |c| (-c.dist).max(0.0));
+                    self.report.max_front_depth = self.report.max_front_depth.max(depth);
+                    if depth > MAX_FRONT_DEPTH {
+                        return Err(violation(r, b, Breach::FrontPenetration { depth }));
+                    }
+                    continue;
+                }
+                // The exact distance only where it could touch or beat the smallest clearance.
+                if gap >= TOUCH && gap >= self.report.min_clearance {
+                    continue;
+                }
+                let d = query::distance(
+                    &placed.poses[ri],
+                    r.solid.shape.as_ref(),
+                    &self.body_poses[bi],
+                    b.solid.shape.as_ref(),
+                )
+                .expect("parry supports the pair")
+                .distance;
+                if d < TOUCH {
+                    return Err(violation(r, b, Breach::Touch { distance: d }));
+                }
+                if d < self.report.min_clearance {
+                    self.report.min_clearance = d;
+                    self.report.min_clearance_between =
+                        format!("{} vs {} (step {}, {})", r.name, b.name, s.step, s.phase);
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Dense samples of a polyline: every waypoint and `n` equal steps per segment, with `n` from
+/// `steps(a, b)` (at least 1). Yields `(waypoint index + fraction, configuration)`.
+fn samples(
+    positions: &[Vec<f64>],
+    steps: impl Fn(&[f64], &[f64]) -> usize,
+) -> Vec<(f64, Vec<f64>)> {
+    let mut out = Vec::new();
+    if let Some(first) = positions.first() {
+        out.push((0.0, first.clone()));
+    }
+    for (i, w) in positions.windows(2).enumerate() {
+        let n = steps(&w[0], &w[1]).max(1);
+        for j in 1..=n {
+            let t = j as f64 / n as f64;
+            let p = w[0]
+                .iter()
+                .zip(&w[1])
+                .map(|(a, b)| a + (b - a) * t)
+                .collect();
+            out.push((i as f64 + t, p));
+        }
+    }
+    out
+}
+
+fn max_change(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (y - x).abs())
+        .fold(0.0, f64::max)
+}
+
+fn arm_steps(a: &[f64], b: &[f64]) -> usize {
+    (max_change(a, b) / ARM_STEP).ceil() as usize
+}
+
+fn base_steps(a: &[f64], b: &[f64]) -> usize {
+    let xy = (b[0] - a[0]).hypot(b[1] - a[1]) / BASE_STEP;
+    let yaw = (b[2] - a[2]).abs() / YAW_STEP;
+    xy.max(yaw).ceil() as usize
+}
+
+/// The pre-grasp index of a step's approach: from it to the end of the approach, contact is
+/// allowed.
+fn pregrasp(step: &StepMotion) -> usize {
+    step.pregrasp
+}
+
+/// The post-grasp index of a step's retreat: up to it, contact is allowed.
+fn postgrasp(step: &StepMotion) -> usize {
+    step.postgrasp
+}
+
+/// Re-checks every phase of every step of `plan`, from `start`, densely (arm: at most
+/// [`ARM_STEP`] per joint between samples; base: [`BASE_STEP`] and [`YAW_STEP`]; manipulation
+/// also [`SCENE_STEP`] of the moved joint) under the contact rule of this module. The first
+/// offending sample is the `Err`.
+pub(super) fn recheck(
+    planner: &HierarchicalPlanner,
+    model: &SceneModel,
+    start: &State,
+    plan: &MotionPlan,
+) -> Result<Report, Violation> {
+    let mut c = Checker::new(planner, model);
+    let stow: Vec<f64> = planner.stow().iter().copied().collect();
+    let mut state = start.clone();
+    for (index, step) in plan.steps.iter().enumerate() {
+        let joint = model.joint_id(&step.joint).expect("the step's joint");
+        state
+            .set(model, joint, step.from)
+            .expect("the step's start value");
+        c.set_scene(&state);
+        c.set_grasp(&step.joint, &step.handle);
+        // Base: the arm stowed, free.
+        for (at, b) in samples(&step.base_path.positions, base_steps) {
+            let placed = c.place(&b, &stow);
+            c.check(
+                &placed,
+                &Sample::new(index, Phase::Base, at, false, &b, step.from),
+            )?;
+        }
+        // Approach: free up to the pre-grasp configuration, contact from it on.
+        let pre = pregrasp(step) as f64;
+        for (at, q) in samples(&step.approach.positions, arm_steps) {
+            let placed = c.place(&step.base, &q);
+            c.check(
+                &placed,
+                &Sample::new(index, Phase::Approach, at, at >= pre, &q, step.from),
+            )?;
+        }
+        // Manipulation: the arm and the scene joint interpolated together, contact.
+        let k = step.manipulation.positions.len().saturating_sub(1).max(1) as f64;
+        let per_segment = ((step.to - step.from).abs() / k / SCENE_STEP).ceil() as usize;
+        for (at, q) in samples(&step.manipulation.positions, |a, b| {
+            arm_steps(a, b).max(per_segment)
+        }) {
+            let value = step.from + (step.to - step.from) * at / k;
+            state.set_unchecked(joint, value);
+            c.set_scene(&state);
+            let placed = c.place(&step.base, &q);
+            c.check(
+                &placed,
+                &Sample::new(index, Phase::Manipulation, at, true, &q, value),
+            )?;
+        }
+        // Retreat: contact up to the post-grasp configuration, free after it.
+        state.set(model, joint, step.to).expect("the step's target");
+        c.set_scene(&state);
+        let post = postgrasp(step) as f64;
+        for (at, q) in samples(&step.retreat.positions, arm_steps) {
+            let placed = c.place(&step.base, &q);
+            c.check(
+                &placed,
+                &Sample::new(index, Phase::Retreat, at, at <= post, &q, step.to),
+            )?;
+        }
+    }
+    Ok(c.report)
+}
+
+// ---------------------------------------------------------------------------------------------
+// Tests
+
+/// Plans `problem` with the shipped robot and default settings (120 s budget); panics unless
+/// solved.
+fn solve(model: &SceneModel, problem: &Problem) -> (HierarchicalPlanner, MotionPlan) {
+    let planner = super::planner();
+    let result = planner
+        .plan(
+            model,
+            problem,
+            &Termination::after(Duration::from_secs(120)),
+        )
+        .expect("valid input");
+    let MotionOutcome::Solved(plan) = result.outcome else {
+        panic!("expected a plan, got {:?}", result.outcome);
+    };
+    (planner, plan)
+}
+
+/// The drawer problem of `tests/planner/mod.rs` (counter with the drawer handle at 0.75 m,
+/// drawer out by at least 0.25 m, start base [-0.9, 0, 0]), planned once for the tests that
+/// share it.
+fn drawer() -> &'static (SceneModel, Problem, HierarchicalPlanner, MotionPlan) {
+    static PLAN: OnceLock<(SceneModel, Problem, HierarchicalPlanner, MotionPlan)> = OnceLock::new();
+    PLAN.get_or_init(|| {
+        let model = super::counter_with_drawer(0.75);
+        let problem = super::problem(
+            &model,
+            "[goal]\ndrawer_slide = { min = 0.25 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
+        );
+        let started = Instant::now();
+        let (planner, plan) = solve(&model, &problem);
+        eprintln!(
+            "drawer: planned in {:.1} s",
+            started.elapsed().as_secs_f64()
+        );
+        (model, problem, planner, plan)
+    })
+}
+
+/// The robot shape names of the URDF (for the corrupted plans' verdicts).
+fn robot_shape_names(planner: &HierarchicalPlanner) -> Vec<String> {
+    robot_shapes(planner.robot().pinocchio())
+        .into_iter()
+        .map(|s| s.name)
+        .collect()
+}
+
+#[test]
+fn the_robot_geometry_read_here_is_the_urdf_s() {
+    // Expected values from robots/kinova_gen3_mobile.urdf: 12 collision elements (chassis, the
+    // Gen3 base cylinder, 7 link capsules, the gripper body and the two fingers), the fingers
+    // being the only contact shapes, and at the neutral arm the left finger's box centre is at
+    // flange (0.08, 0, 0.17), i.e. 0.03 m behind the tool frame along its z (tool 0.20 m along
+    // the flange z), which we check against Pinocchio's tool frame (a different path through
+    // the model: the tool frame is a frame of the last joint, composed by the planner's URDF
+    // loader).
+    let planner = super::planner();
+    let pin = planner.robot().pinocchio();
+    let shapes = robot_shapes(pin);
+    assert_eq!(shapes.len(), 12);
+    let contact: Vec<&str> = shapes
+        .iter()
+        .filter(|s| s.contact)
+        .map(|s| s.name.as_str())
+        .collect();
+    assert_eq!(
+        contact,
+        ["robotiq_2f_140/finger_left", "robotiq_2f_140/finger_right"]
+    );
+    assert!(
+        shapes
+            .iter()
+            .any(|s| s.name == "base_link/chassis" && s.anchor == Anchor::Base)
+    );
+    let q = planner.stow();
+    let mut data = Data::new(pin).unwrap();
+    arm_fk(pin, &mut data, &q).unwrap();
+    let tool =
+        kinscene::kinematics::pinocchio::frame_placement(pin, &data, planner.robot().tool_frame())
+            .unwrap();
+    let finger = shapes.iter().find(|s| s.contact).unwrap();
+    let Anchor::Joint(j) = finger.anchor else {
+        panic!("the finger moves with the arm");
+    };
+    let base_from_finger = joint_placement(pin, &data, j).unwrap() * finger.anchor_from_shape;
+    let tool_from_finger = tool.inverse() * base_from_finger;
+    let t = tool_from_finger.translation.vector;
+    assert!((t - Vector3::new(0.08, 0.0, -0.03)).norm() < 1e-9, "{t:?}");
+}
+
+#[test]
+fn the_drawer_plan_keeps_the_contact_rule() {
+    // The drawer of tests/planner/mod.rs (drawer_slide >= 0.25 from base [-0.9, 0, 0]), which
+    // the planner solves in the end-to-end test there; the expectation is the rule itself: no
+    // violation anywhere, at 5 mm / 0.005 rad sampling.
+    let (model, problem, planner, plan) = drawer();
+    let started = Instant::now();
+    let report = recheck(planner, model, &problem.start, plan).unwrap_or_else(|v| panic!("{v}"));
+    eprintln!(
+        "drawer: rechecked in {:.2} s: {report}",
+        started.elapsed().as_secs_f64()
+    );
+    assert!(
+        report.samples > 100 && report.contact_samples > 0,
+        "{report}"
+    );
+    assert!(report.min_clearance > 0.0);
+}
+
+/// A counter like [`super::counter_with_drawer`]'s (x in [0, 0.6], y in [-1, 1], 0.9 m high)
+/// with a cabinet door in front of it instead of the drawer: 0.45 m wide (y in [-0.225, 0.225]
+/// closed), 0.7 m tall (z in [0.15, 0.85], centred at 0.5), 0.02 m thick (x in [-0.03, -0.01] closed, 1 cm in
+/// front of the counter as the drawer's front), hinged about the vertical line through its
+/// outer front edge at y = -0.225. A positive angle swings the free edge (y = +0.225) out into
+/// the room (-x). The handle is a vertical bar, a box 0.035 m proud of the door's face, 0.012 m
+/// wide and 0.16 m tall, its centre 0.04 m from the free edge at the door's mid-height (z = 0.5, as
+/// the drawer's handle sits on its front's centre); its grasp point is the bar's centre, its
+/// normal outward (-x when closed).
+fn counter_with_door() -> SceneModel {
+    let mut b = SceneModelBuilder::new();
+    b.add_base_shape(kinscene::scene::BaseShape::new(
+        "counter",
+        Shape::box_size(Vector3::new(0.6, 2.0, 0.9)),
+        Isometry3::translation(0.3, 0.0, 0.45),
+    ));
+    // The part frame is the hinge frame: x out of the counter's front (the door's outer face is
+    // x = 0), y along the door towards the free edge, z up; the door's centre height 0.5.
+    b.add_part(
+        PartSpec::on_base(
+            "door",
+            Joint::revolute(
+                "door_hinge",
+                Point3::new(-0.03, -0.225, 0.5),
+                Vector3::z(),
+                Limits::new(0.0, 2.0),
+            ),
+        )
+        .with_collider(
+            Shape::box_size(Vector3::new(0.02, 0.45, 0.7)),
+            Isometry3::translation(0.01, 0.225, 0.0),
+        )
+        .with_collider(
+            Shape::box_size(Vector3::new(0.035, 0.012, 0.16)),
+            Isometry3::translation(-0.0175, 0.41, 0.0),
+        )
+        .with_handle(Handle::new(
+            "door_handle",
+            Point3::new(-0.0175, 0.41, 0.0),
+            -Vector3::x(),
+        )),
+    );
+    b.build().expect("the test scene is valid")
+}
+
+#[test]
+fn a_cabinet_door_plan_keeps_the_contact_rule() {
+    // The door above opened to at least 1.5 rad from base [-0.9, 0, 0]; at 1.5 rad the free edge
+    // is 0.45 m out into the room (x about -0.48), the robot's start pose 0.2 m further. The
+    // expectation is the rule itself. The front of the door is its panel (the bar contains the
+    // grasp point, so it is not front).
+    let started = Instant::now();
+    let model = counter_with_door();
+    let problem = super::problem(
+        &model,
+        "[goal]\ndoor_hinge = { min = 1.5 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
+    );
+    let (planner, plan) = solve(&model, &problem);
+    let planned = started.elapsed();
+    // The planner may open the door in more than one step (the task lattice offers
+    // intermediate angles); each step moves the door, the last one to at least 1.5 rad.
+    assert!(plan.steps.iter().all(|s| s.joint == "door_hinge"));
+    assert!(plan.steps.last().is_some_and(|s| s.to >= 1.5));
+    let report = recheck(&planner, &model, &problem.start, &plan).unwrap_or_else(|v| panic!("{v}"));
+    eprintln!(
+        "door: planned in {:.1} s, rechecked in {:.2} s: {report}",
+        planned.as_secs_f64(),
+        (started.elapsed() - planned).as_secs_f64()
+    );
+    assert!(report.contact_samples > 0);
+}
+
+#[test]
+fn corrupted_drawer_plans_are_rejected() {
+    let (model, problem, planner, plan) = drawer();
+    let names = robot_shape_names(planner);
+
+    // (i) The whole base motion 0.15 m further towards the counter (+x): the planner's placement
+    // keeps the robot out of the counter and the drawer's sweep with little to spare (the arm
+    // reaches a handle 0.05 m in front of a 0.9 m high counter), so some robot shape must touch
+    // something, or a finger must press into the drawer's front while it grasps. The expected
+    // verdict names one of the URDF's shapes.
+    let mut shifted = plan.clone();
+    for step in &mut shifted.steps {
+        step.base[0] += 0.15;
+        for p in &mut step.base_path.positions {
+            p[0] += 0.15;
+        }
+    }
+    let v = recheck(planner, model, &problem.start, &shifted)
+        .expect_err("a base 0.15 m closer to the counter touches it");
+    eprintln!("shifted base: {v}");
+    assert!(names.contains(&v.robot_shape), "{v}");
+    assert!(["counter", "drawer"].contains(&v.body.as_str()), "{v}");
+
+    // (ii) The base path's last pose 0.5 m inside the counter (its front face is x = 0, so the
+    // chassis centre at x = 0.5): in the base phase the robot (arm stowed) must touch the
+    // counter, or the drawer in front of it, on the changed last segment at the latest.
+    let mut inside = plan.clone();
+    let last = inside.steps[0].base_path.positions.last_mut().unwrap();
+    last[0] = 0.5;
+    let v = recheck(planner, model, &problem.start, &inside)
+        .expect_err("a base pose inside the counter touches it");
+    eprintln!("base inside the counter: {v}");
+    assert_eq!((v.step, v.phase), (0, Phase::Base), "{v}");
+    assert!(["counter", "drawer"].contains(&v.body.as_str()), "{v}");
+    assert!(matches!(v.breach, Breach::Touch { .. }), "{v}");
+    assert!(names.contains(&v.robot_shape), "{v}");
+    let n = inside.steps[0].base_path.positions.len() as f64;
+    assert!(v.at > n - 2.0, "only the last segment changed: {v}");
+
+    // (iii), re-checking with another grasped part, is skipped: the drawer scene has one part.
+}
