@@ -15,6 +15,7 @@ use std::sync::Mutex;
 use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use kinscene::Termination;
 use kinscene::kinematics::robot::{Exempt, RobotCollision, RobotConfig, RobotModel};
 use kinscene::motion::paths::{PathOutcome, PathSettings, first_invalid, plan_arm, plan_base};
 use kinscene::motion::timing::time_parameterise;
@@ -131,7 +132,15 @@ fn base_plan(c: &mut Criterion) {
         ..PathSettings::default()
     };
     let robot = RobotModel::kinova_gen3_mobile();
-    let outcome = plan_base(start, goal, BASE_BOUNDS, &valid, &settings, None).unwrap();
+    let outcome = plan_base(
+        start,
+        goal,
+        BASE_BOUNDS,
+        &valid,
+        &settings,
+        &Termination::none(),
+    )
+    .unwrap();
     let PathOutcome::Found(path) = &outcome else {
         panic!("base plan: {outcome:?}")
     };
@@ -168,7 +177,15 @@ fn base_plan(c: &mut Criterion) {
         };
         group.bench_function(id, |b| {
             b.iter(|| {
-                let outcome = plan_base(start, goal, BASE_BOUNDS, &valid, &settings, None).unwrap();
+                let outcome = plan_base(
+                    start,
+                    goal,
+                    BASE_BOUNDS,
+                    &valid,
+                    &settings,
+                    &Termination::none(),
+                )
+                .unwrap();
                 assert!(outcome.is_found(), "{outcome:?}");
                 black_box(outcome)
             })
@@ -321,7 +338,17 @@ fn arm_plan(c: &mut Criterion) {
         if !(inside && (tool.rotation * Vector3::z()).y >= 0.7 && free(&q)) {
             continue;
         }
-        match plan_arm(&start, &q, &lower, &upper, &free, &probe, None).unwrap() {
+        match plan_arm(
+            &start,
+            &q,
+            &lower,
+            &upper,
+            &free,
+            &probe,
+            &Termination::none(),
+        )
+        .unwrap()
+        {
             PathOutcome::Found(path) => goals.push((q, path)),
             _ => skipped += 1,
         }
@@ -363,7 +390,16 @@ fn arm_plan(c: &mut Criterion) {
         b.iter(|| {
             let goal = &goals[next % goals.len()].0;
             next += 1;
-            let outcome = plan_arm(&start, goal, &lower, &upper, &free, &settings, None).unwrap();
+            let outcome = plan_arm(
+                &start,
+                goal,
+                &lower,
+                &upper,
+                &free,
+                &settings,
+                &Termination::none(),
+            )
+            .unwrap();
             total += 1;
             found += usize::from(outcome.is_found());
             black_box(outcome)

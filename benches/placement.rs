@@ -19,11 +19,12 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use criterion::Criterion;
+use kinscene::Termination;
 use kinscene::kinematics::ik::{IkSettings, IkSolver};
 use kinscene::kinematics::robot::{RobotCollision, RobotModel};
 use kinscene::motion::placement::{
     PlacementData, PlacementMethod, PlacementOutcome, PlacementProblem, PlacementSettings,
-    place_and_plan_with,
+    place_and_plan,
 };
 use kinscene::scene::SceneModel;
 use kinscene::scene::urdf::{self, ImportOptions};
@@ -80,7 +81,7 @@ impl Setup {
             method,
             ..PlacementSettings::default()
         };
-        place_and_plan_with(
+        place_and_plan(
             PlacementProblem {
                 robot: &self.robot,
                 collision: &self.collision,
@@ -94,6 +95,7 @@ impl Setup {
             ROBOT_FROM,
             &settings,
             data,
+            &Termination::none(),
         )
         .expect("placement")
     }

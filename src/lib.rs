@@ -1,10 +1,12 @@
 #![doc = include_str!("../README.md")]
 #![warn(missing_docs)]
 
+pub mod control;
 pub mod discovery;
 pub mod error;
 pub mod scene;
 pub mod task;
+pub use control::Termination;
 pub use error::Error;
 
 pub mod kinematics;

@@ -25,11 +25,11 @@ use nalgebra::{Translation3, Vector3};
 use serde::{Deserialize, Serialize};
 
 use super::error::DiscoveryError;
+use crate::scene::collision::BodyName;
 use crate::scene::collision::{
     Body, SweepSettings, SweepStatus, check_joint_motion, collisions, collisions_of,
 };
 use crate::scene::{JointId, PartId, SceneData, SceneModel, Shape, State, forward_kinematics};
-use crate::task::BodyName;
 
 /// Face cuts tried (m), smallest first.
 pub const CUTS: [f64; 8] = [0.003, 0.006, 0.01, 0.015, 0.02, 0.03, 0.05, 0.08];

@@ -144,21 +144,30 @@ impl MotionDocument {
                     outcome: Outcome::Infeasible(task.clone()),
                     stats,
                 });
+                // The motion layer's verdict leads: the task search's own explanation is
+                // about the orders left after the vetoes.
                 if let Some(first) = vetoes.first() {
                     let reason = file.reason.take().unwrap_or_default();
                     file.reason = Some(format!(
-                        "{reason}; the motion layer vetoed {} move(s), first: {first}",
+                        "{first}; the motion layer vetoed {} move(s) in all, and then {reason}",
                         vetoes.len()
                     ));
                 }
                 (file, Vec::new(), vetoes.clone(), 0.0)
             }
             MotionOutcome::Timeout { reason, vetoes } => {
+                let reason = match vetoes.first() {
+                    Some(first) => format!(
+                        "{reason}; the motion layer had vetoed {} move(s), first: {first}",
+                        vetoes.len()
+                    ),
+                    None => reason.clone(),
+                };
                 let file = PlanFile {
                     status: PlanStatus::Timeout,
                     steps: Vec::new(),
                     cost: 0.0,
-                    reason: Some(reason.clone()),
+                    reason: Some(reason),
                     conflicts: Vec::new(),
                     stats: Some(stats),
                 };

@@ -35,7 +35,7 @@ pub use settings::PlannerSettings;
 pub use step::{Check, StepFailure, StepMotion, StepTiming};
 
 use std::sync::Mutex;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use nalgebra::DVector;
 
@@ -522,9 +522,4 @@ enum Refined {
         failure: StepFailure,
     },
     Stopped(String),
-}
-
-/// Time left before `termination`'s deadline, capped at `cap`.
-pub(crate) fn budget_left(termination: &Termination<'_>, cap: Duration) -> Duration {
-    termination.remaining().map_or(cap, |left| left.min(cap))
 }

@@ -32,18 +32,17 @@ use std::fmt;
 
 use nalgebra::DVector;
 
-use super::{PlannerError, PlannerSettings, budget_left};
+use super::{PlannerError, PlannerSettings};
 use crate::kinematics::ik::IkSolver;
 use crate::kinematics::robot::{Exempt, RobotCollision, RobotConfig, RobotModel};
 use crate::motion::paths::{PathOutcome, first_invalid, plan_arm, plan_base};
 use std::sync::Mutex;
 
-use crate::motion::placement::{
-    PlacementData, PlacementOutcome, PlacementProblem, place_and_plan_cancellable,
-};
+use crate::motion::placement::{PlacementData, PlacementOutcome, PlacementProblem, place_and_plan};
 use crate::motion::timing::{TimedPath, time_parameterise};
+use crate::scene::collision::BodyName;
 use crate::scene::{JointId, PartId, SceneData, SceneModel, State, forward_kinematics};
-use crate::task::{BodyName, Robot, Step, Termination};
+use crate::task::{Robot, Step, Termination};
 
 /// The check of a step that failed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -237,14 +236,13 @@ pub(super) fn refine(
     };
     let handle = model.handle_id(&handle_name)?;
     let ignore = grasped(model, joint);
-    let cancel = ctx.termination.cancel_flag();
     let mut data = SceneData::new(model);
     forward_kinematics(model, &mut data, state)?;
 
     // Placement: base pose and the arm along the handle trajectory.
     let placement = {
         let mut scratch = ctx.placement.lock().unwrap_or_else(|e| e.into_inner());
-        place_and_plan_cancellable(
+        place_and_plan(
             PlacementProblem {
                 robot: ctx.robot,
                 collision: ctx.collision,
@@ -258,7 +256,7 @@ pub(super) fn refine(
             robot.base,
             &settings.placement,
             &mut scratch,
-            cancel,
+            ctx.termination,
         )?
     };
     if !placement.is_complete() {
@@ -303,8 +301,6 @@ pub(super) fn refine(
         }
     };
     let bounds = grid_bounds(model);
-    let mut path_settings = settings.paths.clone();
-    path_settings.budget = budget_left(ctx.termination, settings.paths.budget);
     let base_path = if same_pose(&robot.base, &base) {
         vec![robot.base.to_vec(), base.to_vec()]
     } else {
@@ -313,8 +309,8 @@ pub(super) fn refine(
             base,
             bounds,
             &base_valid,
-            &path_settings,
-            cancel,
+            &settings.paths,
+            ctx.termination,
         )? {
             PathOutcome::Found(p) => p,
             other => {
@@ -392,16 +388,14 @@ pub(super) fn refine(
                      check: Check,
                      what: &str|
      -> Result<Result<Vec<Vec<f64>>, Failed>, PlannerError> {
-        let mut path_settings = settings.paths.clone();
-        path_settings.budget = budget_left(ctx.termination, settings.paths.budget);
         let outcome = plan_arm(
             from,
             to,
             lower.as_slice(),
             upper.as_slice(),
             &|q: &[f64]| arm.valid(q),
-            &path_settings,
-            cancel,
+            &settings.paths,
+            ctx.termination,
         )?;
         let path = match outcome {
             PathOutcome::Found(p) => p,

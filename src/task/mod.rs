@@ -131,9 +131,6 @@ mod search;
 mod settings;
 mod validate;
 
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
-
 pub use error::Error;
 pub use goal::{
     DEFAULT_ROBOT_RADIUS, DEFAULT_TOLERANCE, Goal, GoalSpec, Interval, Problem, Robot, RobotSpec,
@@ -148,54 +145,11 @@ pub use refine::{MoveContext, NoRefinement, Refinement, Refiner};
 pub use settings::{CostWeights, LatticeSettings, ManipulationSettings, Strategy, TaskSettings};
 pub use validate::{MAX_SWEEP_SAMPLES, Validation, validate};
 
+/// The crate's one termination condition ([`crate::control`]), re-exported where the task
+/// search has always taken it.
+pub use crate::control::Termination;
+
 use crate::scene::{JointId, SceneData, SceneModel};
-
-/// When to stop: a deadline, a cancel flag, both or neither.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct Termination<'a> {
-    deadline: Option<Instant>,
-    cancel: Option<&'a AtomicBool>,
-}
-
-impl<'a> Termination<'a> {
-    /// Never stops early.
-    pub fn none() -> Self {
-        Termination::default()
-    }
-
-    /// Stops `budget` from now.
-    pub fn after(budget: Duration) -> Self {
-        Termination {
-            deadline: Instant::now().checked_add(budget),
-            cancel: None,
-        }
-    }
-
-    /// Also stops when `flag` becomes true.
-    pub fn with_cancel(self, flag: &'a AtomicBool) -> Self {
-        Termination {
-            cancel: Some(flag),
-            ..self
-        }
-    }
-
-    /// Time left before the deadline (zero once it has passed); `None` without a deadline.
-    pub fn remaining(&self) -> Option<Duration> {
-        self.deadline
-            .map(|d| d.saturating_duration_since(Instant::now()))
-    }
-
-    /// The cancel flag, if any.
-    pub fn cancel_flag(&self) -> Option<&'a AtomicBool> {
-        self.cancel
-    }
-
-    /// Whether the deadline has passed or the flag is set.
-    pub fn should_stop(&self) -> bool {
-        self.cancel.is_some_and(|f| f.load(Ordering::Relaxed))
-            || self.deadline.is_some_and(|d| Instant::now() >= d)
-    }
-}
 
 /// Plans the order of single-joint changes that takes `problem.start` to `problem.goal`.
 ///

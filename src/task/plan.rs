@@ -24,8 +24,6 @@ use std::time::Duration;
 use serde::{Deserialize, Serialize};
 
 use super::Error;
-use crate::scene::SceneModel;
-use crate::scene::collision::Body;
 
 /// One single-joint change θ_i of a plan Π.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -59,34 +57,7 @@ pub struct Plan {
     pub cost: f64,
 }
 
-/// A body in a failure report: a part or a base shape, by name.
-#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum BodyName {
-    /// An articulated part.
-    Part(String),
-    /// A static shape of the base map.
-    Base(String),
-}
-
-impl BodyName {
-    /// The name of `body` in `model` (its id must be one of `model`'s).
-    pub fn of(model: &SceneModel, body: Body) -> BodyName {
-        match body {
-            Body::Part(p) => BodyName::Part(model.parts()[p.index()].name().into()),
-            Body::Base(s) => BodyName::Base(model.base().shapes[s.index()].name.clone()),
-        }
-    }
-}
-
-impl std::fmt::Display for BodyName {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            BodyName::Part(n) => write!(f, "part {n:?}"),
-            BodyName::Base(n) => write!(f, "base shape {n:?}"),
-        }
-    }
-}
+pub use crate::scene::collision::BodyName;
 
 /// Why one move (joint from → to, in some state) is infeasible.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

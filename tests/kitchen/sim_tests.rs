@@ -12,6 +12,7 @@
 use std::f64::consts::FRAC_PI_2;
 use std::path::Path;
 
+use kinscene::Termination;
 use kinscene::discovery::{Camera, Hardware, HardwareFailure, LocalGoal, Perception};
 use kinscene::kinematics::ik::{IkSettings, IkSolver, IkTarget};
 use kinscene::kinematics::robot::{Exempt, RobotCollision, RobotConfig, RobotModel};
@@ -543,7 +544,7 @@ fn arm_plan(
         upper.as_slice(),
         &valid,
         &settings,
-        None,
+        &Termination::none(),
     )
     .expect("valid planning input")
     {

@@ -12,6 +12,7 @@ use std::sync::Mutex;
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
+use kinscene::Termination;
 use kinscene::motion::paths::{
     CONTINUOUS_JOINT_WINDOW, PathError, PathOutcome, PathSettings, first_invalid, plan_arm,
     plan_base,
@@ -146,7 +147,7 @@ fn base_path_through_the_gap_passes_the_dense_recheck() {
     assert!(first_invalid(&[start.to_vec(), goal.to_vec()], 0.01, true, &recheck).is_some());
 
     let settings = base_settings(11, Duration::from_secs(10));
-    let outcome = plan_base(start, goal, BOUNDS, &valid, &settings, None).unwrap();
+    let outcome = plan_base(start, goal, BOUNDS, &valid, &settings, &Termination::none()).unwrap();
     let PathOutcome::Found(path) = outcome else {
         panic!("{outcome:?}")
     };
@@ -195,7 +196,7 @@ fn same_seed_same_base_path() {
             BOUNDS,
             &valid,
             &settings,
-            None,
+            &Termination::none(),
         )
     };
     let first = run().unwrap();
@@ -216,7 +217,7 @@ fn walled_off_goal_is_an_outcome_within_the_budget() {
         BOUNDS,
         &valid,
         &settings,
-        None,
+        &Termination::none(),
     );
     let elapsed = t0.elapsed();
     assert!(
@@ -243,7 +244,7 @@ fn cancel_flag_set_before_planning_cancels() {
         BOUNDS,
         &valid,
         &settings,
-        Some(&flag),
+        &Termination::none().with_cancel(&flag),
     )
     .unwrap();
     assert_eq!(outcome, PathOutcome::Cancelled);
@@ -259,12 +260,36 @@ fn invalid_start_and_goal_are_outcomes() {
     let inside = [2.8, 0.8, 0.0];
     let free = [1.0, 0.8, 0.0];
     assert!(!valid(&inside) && valid(&free));
-    let outcome = plan_base(inside, free, BOUNDS, &valid, &settings, None).unwrap();
+    let outcome = plan_base(
+        inside,
+        free,
+        BOUNDS,
+        &valid,
+        &settings,
+        &Termination::none(),
+    )
+    .unwrap();
     assert_eq!(outcome, PathOutcome::InvalidStart);
-    let outcome = plan_base(free, inside, BOUNDS, &valid, &settings, None).unwrap();
+    let outcome = plan_base(
+        free,
+        inside,
+        BOUNDS,
+        &valid,
+        &settings,
+        &Termination::none(),
+    )
+    .unwrap();
     assert_eq!(outcome, PathOutcome::InvalidGoal);
     // A goal outside the bounds is an outcome too (the start is an error, below).
-    let outcome = plan_base(free, [7.0, 1.0, 0.0], BOUNDS, &valid, &settings, None).unwrap();
+    let outcome = plan_base(
+        free,
+        [7.0, 1.0, 0.0],
+        BOUNDS,
+        &valid,
+        &settings,
+        &Termination::none(),
+    )
+    .unwrap();
     assert_eq!(outcome, PathOutcome::InvalidGoal);
 }
 
@@ -273,7 +298,14 @@ fn bad_base_input_gives_typed_errors() {
     let valid = |_: &[f64; 3]| true;
     let ok = PathSettings::default();
     let plan = |start: [f64; 3], bounds, settings: &PathSettings| {
-        plan_base(start, [1.0, 1.0, 0.0], bounds, &valid, settings, None)
+        plan_base(
+            start,
+            [1.0, 1.0, 0.0],
+            bounds,
+            &valid,
+            settings,
+            &Termination::none(),
+        )
     };
     assert!(matches!(
         plan([f64::NAN, 0.5, 0.0], BOUNDS, &ok),
@@ -359,7 +391,16 @@ fn arm_path_through_the_window_passes_the_dense_recheck() {
         seed: Some(21),
         ..PathSettings::default()
     };
-    let outcome = plan_arm(&start, &goal, &lower, &upper, &planning, &settings, None).unwrap();
+    let outcome = plan_arm(
+        &start,
+        &goal,
+        &lower,
+        &upper,
+        &planning,
+        &settings,
+        &Termination::none(),
+    )
+    .unwrap();
     let PathOutcome::Found(path) = outcome else {
         panic!("{outcome:?}")
     };
@@ -409,7 +450,7 @@ fn arm_blocked_goal_and_bad_input() {
         &upper,
         &slab,
         &settings,
-        None,
+        &Termination::none(),
     )
     .unwrap();
     assert!(
@@ -424,14 +465,22 @@ fn arm_blocked_goal_and_bad_input() {
         &upper,
         &slab,
         &settings,
-        None,
+        &Termination::none(),
     )
     .unwrap();
     assert_eq!(outcome, PathOutcome::InvalidStart);
 
     let any = |_: &[f64]| true;
     let arm = |start: &[f64], goal: &[f64], lower: &[f64], upper: &[f64]| {
-        plan_arm(start, goal, lower, upper, &any, &settings, None)
+        plan_arm(
+            start,
+            goal,
+            lower,
+            upper,
+            &any,
+            &settings,
+            &Termination::none(),
+        )
     };
     assert!(matches!(
         arm(&[], &[], &[], &[]),
@@ -549,5 +598,54 @@ fn first_invalid_fails_closed() {
     assert_eq!(
         first_invalid(&path, 0.1, true, &any),
         Some((0, vec![0.0, 0.0]))
+    );
+}
+
+#[test]
+fn the_callers_termination_bounds_a_path_and_a_spent_one_stops_it_at_once() {
+    // The corridor of the other base tests, with a generous per-path budget: the caller's
+    // condition decides. A deadline already passed is a timeout before OMPL is called.
+    let planning = Footprint::new(corridor(false), 0.0);
+    let valid = |q: &[f64; 3]| planning.is_free(q[0], q[1]);
+    let settings = base_settings(3, Duration::from_secs(10));
+    let spent = Termination::after(Duration::ZERO);
+    let t0 = Instant::now();
+    let outcome = plan_base(
+        [1.0, 0.8, 0.0],
+        [5.0, 1.0, 0.0],
+        BOUNDS,
+        &valid,
+        &settings,
+        &spent,
+    )
+    .unwrap();
+    assert_eq!(outcome, PathOutcome::Timeout);
+    assert!(
+        t0.elapsed() < Duration::from_millis(100),
+        "{:?}",
+        t0.elapsed()
+    );
+    // A walled-off goal under a 0.3 s caller deadline (the path budget is 10 s): stopped by
+    // the caller's deadline, plus set-up.
+    let walled = Footprint::new(corridor(false), BASE_RESOLUTION / 2.0);
+    let valid = |q: &[f64; 3]| walled.is_free(q[0], q[1]);
+    let t0 = Instant::now();
+    let outcome = plan_base(
+        [1.0, 0.8, 0.0],
+        [5.0, 1.0, 0.0],
+        BOUNDS,
+        &valid,
+        &settings,
+        &Termination::after(Duration::from_millis(300)),
+    )
+    .unwrap();
+    assert!(
+        matches!(outcome, PathOutcome::Timeout | PathOutcome::NotFound { .. }),
+        "{outcome:?}"
+    );
+    assert!(
+        t0.elapsed() < Duration::from_millis(800),
+        "{:?}",
+        t0.elapsed()
     );
 }

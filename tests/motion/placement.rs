@@ -10,12 +10,13 @@
 use std::path::Path;
 use std::sync::OnceLock;
 
+use kinscene::Termination;
 use kinscene::kinematics::ik::{IkSettings, IkSolver};
 use kinscene::kinematics::pinocchio as pin;
 use kinscene::kinematics::robot::{Exempt, RobotCollision, RobotConfig, RobotModel};
 use kinscene::motion::placement::{
     GraspRotation, JointMotion, PlacementData, PlacementError, PlacementMethod, PlacementOutcome,
-    PlacementProblem, PlacementSettings, place_and_plan, place_and_plan_with,
+    PlacementProblem, PlacementSettings, place_and_plan,
 };
 use kinscene::scene::motion::grasp_trajectory;
 use kinscene::scene::urdf::{self, ImportOptions};
@@ -75,16 +76,20 @@ fn plan_from(
 ) -> PlacementOutcome {
     let f = fixture();
     place_and_plan(
-        &f.robot,
-        &f.collision,
-        &f.ik,
-        model,
-        &model.zero_state(),
+        PlacementProblem {
+            robot: &f.robot,
+            collision: &f.collision,
+            ik: &f.ik,
+            model,
+            state: &model.zero_state(),
+        },
         model.joint_id(joint).unwrap(),
         model.handle_id(handle).unwrap(),
         to,
         from,
         settings,
+        &mut PlacementData::new(),
+        &Termination::none(),
     )
     .unwrap()
 }
@@ -389,7 +394,7 @@ fn optimised_placement_is_verified_and_no_worse_than_its_sample() {
         ("sink_door_hinge", "sink_door_handle", 1.2, false),
     ] {
         let sampled = plan(model, joint, handle, to, &sampled_settings);
-        let out = place_and_plan_with(
+        let out = place_and_plan(
             PlacementProblem {
                 robot: &f.robot,
                 collision: &f.collision,
@@ -403,6 +408,7 @@ fn optimised_placement_is_verified_and_no_worse_than_its_sample() {
             ROBOT_FROM,
             &settings,
             &mut data,
+            &Termination::none(),
         )
         .unwrap();
         let problems = recheck(
@@ -502,16 +508,20 @@ fn bad_input_gives_typed_errors() {
     let state = model.zero_state();
     let run = |joint: &str, handle: &str, to: f64, from: [f64; 3], s: &PlacementSettings| {
         place_and_plan(
-            &f.robot,
-            &f.collision,
-            &f.ik,
-            model,
-            &state,
+            PlacementProblem {
+                robot: &f.robot,
+                collision: &f.collision,
+                ik: &f.ik,
+                model,
+                state: &state,
+            },
             model.joint_id(joint).unwrap(),
             model.handle_id(handle).unwrap(),
             to,
             from,
             s,
+            &mut PlacementData::new(),
+            &Termination::none(),
         )
     };
     let ok = PlacementSettings::default();

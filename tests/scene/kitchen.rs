@@ -13,6 +13,7 @@ use std::path::{Path, PathBuf};
 
 use kinscene::scene::collision::{
     Body, CollisionSettings, SweepSettings, SweepStatus, check_joint_motion, collisions, distances,
+    handle_standoff,
 };
 use kinscene::scene::nav::{NavGrid, footprint, occupancy};
 use kinscene::scene::urdf::{self, ExportOptions, ImportOptions};
@@ -712,4 +713,87 @@ fn path_to_base_follows_the_urdf_tree() {
         ["dishwasher_rack", "dishwasher_door"]
     );
     assert_eq!(names("sink_door"), ["sink_door"]);
+}
+
+#[test]
+fn handles_stand_off_their_fronts_by_half_a_bar() {
+    // Every bar handle of the kitchen is a box 0.035 m proud of its front, its grasp point (the
+    // handle link's origin) at the bar's centre: the front is 0.0175 m behind the grasp point.
+    // The bar holds the grasp point 6 mm inside (half its 12 mm width), so it is passed
+    // through as the handle's own geometry.
+    let m = kitchen();
+    for name in [
+        "sink_door_handle",
+        "drawer_top_handle",
+        "corner_door_side_handle",
+    ] {
+        let h = m.handle_id(name).unwrap();
+        let d = handle_standoff(&m, h, 0.2).unwrap();
+        assert!(
+            d.is_some_and(|d| (d - 0.0175).abs() < 1e-9),
+            "{name}: {d:?}"
+        );
+    }
+    // Searched only up to `max`: nothing within 1 cm.
+    let h = m.handle_id("sink_door_handle").unwrap();
+    assert_eq!(handle_standoff(&m, h, 0.01).unwrap(), None);
+}
+
+#[test]
+fn a_grasp_point_on_the_face_stands_off_by_nothing_and_a_bare_handle_has_no_front() {
+    use kinscene::scene::{Handle, Joint, Limits, PartSpec, SceneModelBuilder};
+    // A 2 cm slab spanning x in [-0.01, 0.01] of its part frame. Handle `face` on its -x face
+    // (x = -0.01), normal -x: on the surface, standoff 0. Handle `air` 0.02 m in front of the
+    // face: standoff 0.02 (no bar to pass through). Part `knob` is only a 2 cm cube around
+    // its handle: nothing behind it, `None`.
+    let slab = Shape::cuboid(Vector3::new(0.01, 0.2, 0.3));
+    let mut b = SceneModelBuilder::new();
+    b.add_part(
+        PartSpec::on_base(
+            "slab",
+            Joint::prismatic(
+                "slide",
+                Point3::origin(),
+                -Vector3::x(),
+                Limits::new(0.0, 0.3),
+            ),
+        )
+        .with_collider(slab, Isometry3::identity())
+        .with_handle(Handle::new(
+            "face",
+            Point3::new(-0.01, 0.0, 0.0),
+            -Vector3::x(),
+        ))
+        .with_handle(Handle::new(
+            "air",
+            Point3::new(-0.03, 0.1, 0.0),
+            -Vector3::x(),
+        )),
+    );
+    b.add_part(
+        PartSpec::on_base(
+            "knob",
+            Joint::prismatic(
+                "knob_slide",
+                Point3::new(0.0, 2.0, 0.0),
+                -Vector3::x(),
+                Limits::new(0.0, 0.1),
+            ),
+        )
+        .with_collider(Shape::cuboid(Vector3::repeat(0.01)), Isometry3::identity())
+        .with_handle(Handle::new("knob_handle", Point3::origin(), -Vector3::x())),
+    );
+    let m = b.build().unwrap();
+    let standoff = |name: &str| handle_standoff(&m, m.handle_id(name).unwrap(), 0.2).unwrap();
+    assert!(
+        standoff("face").is_some_and(|d| d.abs() < 1e-9),
+        "{:?}",
+        standoff("face")
+    );
+    assert!(
+        standoff("air").is_some_and(|d| (d - 0.02).abs() < 1e-9),
+        "{:?}",
+        standoff("air")
+    );
+    assert_eq!(standoff("knob_handle"), None);
 }

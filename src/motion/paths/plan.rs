@@ -2,7 +2,6 @@
 
 use std::f64::consts::PI;
 use std::sync::RwLock;
-use std::sync::atomic::AtomicBool;
 
 use kinscene_ompl::{
     PlanOutcome, PlanSettings, PlanStatus, Problem, StateSpace, StateValidityChecker, Termination,
@@ -24,8 +23,9 @@ static OMPL_RNG: RwLock<()> = RwLock::new(());
 /// Plans a base path in SE(2) from `start` to `goal` (`[x, y, yaw]`, metres and radians).
 ///
 /// `bounds` = `([x_min, y_min], [x_max, y_max])` bounds x and y; yaw is free and wraps. The
-/// closure `valid` sees states with yaw in `[-π, π]`. `cancel`, when set (by another thread),
-/// stops planning with [`PathOutcome::Cancelled`].
+/// closure `valid` sees states with yaw in `[-π, π]`. Planning stops at the earlier of
+/// `termination` and [`PathSettings::budget`] from now ([`PathOutcome::Timeout`]), or when its
+/// cancel flag is raised ([`PathOutcome::Cancelled`]).
 ///
 /// The returned path follows the module's conventions: yaw unwrapped from `start[2]`. A goal
 /// outside the bounds is [`PathOutcome::InvalidGoal`], as in OMPL.
@@ -41,7 +41,7 @@ pub fn plan_base(
     bounds: ([f64; 2], [f64; 2]),
     valid: &(dyn Fn(&[f64; 3]) -> bool + Sync),
     settings: &PathSettings,
-    cancel: Option<&AtomicBool>,
+    termination: &crate::control::Termination<'_>,
 ) -> Result<PathOutcome, PathError> {
     settings.validate()?;
     let (lower, upper) = bounds;
@@ -58,7 +58,7 @@ pub fn plan_base(
     let extent = (upper[0] - lower[0]).hypot(upper[1] - lower[1]) + 0.5 * PI;
     let checker = |q: &[f64]| q.len() == 3 && valid(&[q[0], q[1], q[2]]);
     let problem = Problem::new(space, start.to_vec(), goal.to_vec());
-    let outcome = run(&problem, &checker, extent, settings, cancel)?;
+    let outcome = run(&problem, &checker, extent, settings, termination)?;
     Ok(match outcome {
         PathOutcome::Found(mut path) => {
             unwrap_yaw(&mut path, &start);
@@ -73,7 +73,7 @@ pub fn plan_base(
 /// An infinite bound (a continuous joint, ±∞) is replaced by a finite window around the start
 /// and goal values, see [`CONTINUOUS_JOINT_WINDOW`]. The closure `valid` sees states inside
 /// the (windowed) bounds. A goal outside the bounds is [`PathOutcome::InvalidGoal`], as in
-/// OMPL. The returned path's first state is `start`.
+/// OMPL. The returned path's first state is `start`. `termination` as for [`plan_base`].
 ///
 /// # Errors
 /// [`PathError::ZeroDimension`], [`PathError::DimensionMismatch`] (goal and bounds against
@@ -87,7 +87,7 @@ pub fn plan_arm(
     upper: &[f64],
     valid: &(dyn Fn(&[f64]) -> bool + Sync),
     settings: &PathSettings,
-    cancel: Option<&AtomicBool>,
+    termination: &crate::control::Termination<'_>,
 ) -> Result<PathOutcome, PathError> {
     settings.validate()?;
     let dim = start.len();
@@ -146,7 +146,7 @@ pub fn plan_arm(
     };
     let checker = |q: &[f64]| valid(q);
     let problem = Problem::new(space, start.to_vec(), goal.to_vec());
-    let outcome = run(&problem, &checker, extent, settings, cancel)?;
+    let outcome = run(&problem, &checker, extent, settings, termination)?;
     Ok(match outcome {
         PathOutcome::Found(mut path) => {
             // OMPL copies the start's values; make that exact whatever the shim does.
@@ -163,7 +163,7 @@ fn run<C: StateValidityChecker>(
     checker: &C,
     extent: f64,
     settings: &PathSettings,
-    cancel: Option<&AtomicBool>,
+    termination: &crate::control::Termination<'_>,
 ) -> Result<PathOutcome, PathError> {
     // OMPL checks motions every `fraction × extent`; it rejects fractions outside (ε, 1 − ε).
     let fraction = (settings.resolution / extent).min(0.5);
@@ -180,8 +180,19 @@ fn run<C: StateValidityChecker>(
         simplify: settings.simplify,
         ..PlanSettings::default()
     };
-    let mut termination = Termination::after(settings.budget);
-    if let Some(flag) = cancel {
+    // The one conversion to OMPL's condition: this call's share of the caller's condition,
+    // capped by the per-path budget.
+    let ours = termination.capped(settings.budget);
+    let budget = ours.remaining().unwrap_or(settings.budget);
+    if ours.should_stop() || budget.is_zero() {
+        return Ok(if ours.is_cancelled() {
+            PathOutcome::Cancelled
+        } else {
+            PathOutcome::Timeout
+        });
+    }
+    let mut termination = Termination::after(budget);
+    if let Some(flag) = ours.cancel_flag() {
         termination = termination.with_cancel(flag);
     }
     let outcome = match settings.seed {

@@ -2,16 +2,17 @@
 //! checks: the [`ManipulationPlan`].
 
 use std::f64::consts::PI;
-use std::sync::atomic::AtomicBool;
 
 use nalgebra::{DVector, Isometry3, Point3, Vector3};
 
 use super::grasp::{GraspRotation, JointMotion};
 use super::plan::{ManipulationPlan, Obstacle, WaypointFailure};
 use super::{ManipulationSettings, PlacementError, PlacementProblem};
+use crate::control::Termination;
 use crate::kinematics::ik::{IkData, IkOutcome, IkTarget};
 use crate::kinematics::robot::{ArmJointKind, Exempt, RobotConfig, RobotModel};
 use crate::scene::collision::Body;
+use crate::scene::collision::BodyName;
 use crate::scene::{PartId, SceneData, forward_kinematics};
 
 /// A bound on where the arm can put the tool: the origin of the first arm joint (in the base
@@ -85,8 +86,9 @@ pub(crate) struct Prepared<'a> {
     pub reach: ArmReach,
     /// Free or fixed rotation about the approach axis.
     pub rotation: GraspRotation,
-    /// Stops the sampler when raised.
-    pub cancel: Option<&'a AtomicBool>,
+    /// When the sampler stops drawing base poses (the caller's condition capped by the
+    /// sampling budget).
+    pub termination: Termination<'a>,
     pub lower: DVector<f64>,
     pub upper: DVector<f64>,
 }
@@ -123,7 +125,7 @@ impl<'a> Prepared<'a> {
         Ok(Prepared {
             reach: arm_reach(problem.robot),
             rotation,
-            cancel: None,
+            termination: Termination::none(),
             problem,
             motion,
             moving,
@@ -149,18 +151,23 @@ impl<'a> Prepared<'a> {
             base,
             arm: q.clone(),
         })?;
+        let name = |l: usize| p.robot.links()[l].name.clone();
         if let Some((i, j)) = p.collision.self_collision(&poses) {
-            return Ok(Some(Obstacle::SelfCollision(i, j)));
+            return Ok(Some(Obstacle::SelfCollision(i, j, [name(i), name(j)])));
         }
-        if let Some((link, body)) =
+        let scene = |(link, body)| Obstacle::Scene {
+            link,
+            body,
+            link_name: name(link),
+            body_name: BodyName::of(p.model, body),
+        };
+        if let Some(hit) =
             p.collision
                 .scene_collision(&poses, p.model, data, Exempt::Grasp(&self.moving), margin)
         {
-            return Ok(Some(Obstacle::Scene { link, body }));
+            return Ok(Some(scene(hit)));
         }
-        Ok(self
-            .base_obstacle(&poses, data, margin)
-            .map(|(link, body)| Obstacle::Scene { link, body }))
+        Ok(self.base_obstacle(&poses, data, margin).map(scene))
     }
 
     /// The base links (a prefix of `poses` up to the last of

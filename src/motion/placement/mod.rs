@@ -79,7 +79,6 @@ mod sampled;
 mod settings;
 mod symbolic;
 
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use nalgebra::DVector;
@@ -94,6 +93,7 @@ pub use settings::{
     SamplingSettings,
 };
 
+use crate::control::Termination;
 use crate::kinematics::ik::IkSolver;
 use crate::kinematics::robot::{RobotCollision, RobotModel};
 use crate::scene::collision::handle_standoff;
@@ -238,15 +238,17 @@ fn check_seed(robot: &RobotModel, seed: &DVector<f64>) -> Result<(), PlacementEr
     Ok(())
 }
 
-/// Chooses a base pose for moving `joint` from its value in `state` to `to` by the handle
-/// `handle`, and plans the arm along the handle trajectory from there (see the
+/// Chooses a base pose for moving `joint` from its value in `problem.state` to `to` by the
+/// handle `handle`, and plans the arm along the handle trajectory from there (see the
 /// [module docs](self)). `robot_from` is the base's current pose `[x (m), y (m), yaw (rad)]`:
 /// a candidate itself ([`SamplingSettings::current_pose`]) and the point the tie-break between
 /// equally good samples measures from. The first waypoint's IK starts from
-/// [`RobotModel::neutral`].
+/// [`RobotModel::neutral`]. `data` keeps the compiled placement NLP between calls
+/// ([`PlacementData::new`] for a one-off call).
 ///
-/// Compiles the placement NLP on every call when optimising; use [`place_and_plan_with`] to
-/// reuse it.
+/// Sampling stops at the earlier of `termination` and [`SamplingSettings::budget`] from now,
+/// or when `termination`'s cancel flag is raised: the best plan so far is returned with the
+/// reason in `reason` ("cancelled" skips the optimisation too).
 ///
 /// # Errors
 /// [`PlacementError::Scene`] for foreign ids, a handle that does not move with the joint, a
@@ -256,40 +258,6 @@ fn check_seed(robot: &RobotModel, seed: &DVector<f64>) -> Result<(), PlacementEr
 /// Unreachable waypoints are an outcome (`reached`, `reason`), not an error.
 #[allow(clippy::too_many_arguments)]
 pub fn place_and_plan(
-    robot: &RobotModel,
-    collision: &RobotCollision,
-    ik: &IkSolver,
-    model: &SceneModel,
-    state: &State,
-    joint: JointId,
-    handle: HandleId,
-    to: f64,
-    robot_from: [f64; 3],
-    settings: &PlacementSettings,
-) -> Result<PlacementOutcome, PlacementError> {
-    let problem = PlacementProblem {
-        robot,
-        collision,
-        ik,
-        model,
-        state,
-    };
-    place_and_plan_with(
-        problem,
-        joint,
-        handle,
-        to,
-        robot_from,
-        settings,
-        &mut PlacementData::new(),
-    )
-}
-
-/// [`place_and_plan`] with caller-owned scratch that keeps the compiled NLP between calls.
-///
-/// # Errors
-/// As [`place_and_plan`].
-pub fn place_and_plan_with(
     problem: PlacementProblem<'_>,
     joint: JointId,
     handle: HandleId,
@@ -297,26 +265,7 @@ pub fn place_and_plan_with(
     robot_from: [f64; 3],
     settings: &PlacementSettings,
     data: &mut PlacementData,
-) -> Result<PlacementOutcome, PlacementError> {
-    place_and_plan_cancellable(problem, joint, handle, to, robot_from, settings, data, None)
-}
-
-/// [`place_and_plan_with`] with a cancel flag: once another thread raises it, no new base pose
-/// is evaluated and the optimisation is skipped; the best plan so far is returned, with
-/// "cancelled" in its reason.
-///
-/// # Errors
-/// As [`place_and_plan`].
-#[allow(clippy::too_many_arguments)]
-pub fn place_and_plan_cancellable(
-    problem: PlacementProblem<'_>,
-    joint: JointId,
-    handle: HandleId,
-    to: f64,
-    robot_from: [f64; 3],
-    settings: &PlacementSettings,
-    data: &mut PlacementData,
-    cancel: Option<&AtomicBool>,
+    termination: &Termination<'_>,
 ) -> Result<PlacementOutcome, PlacementError> {
     let start = Instant::now();
     settings.validate()?;
@@ -338,7 +287,7 @@ pub fn place_and_plan_cancellable(
     )?)
     .with_approach(settings.approach_distance, settings.approach_steps);
     let mut prepared = Prepared::new(problem, &motion, settings.grasp)?;
-    prepared.cancel = cancel;
+    prepared.termination = termination.capped(settings.sampling.budget);
     let seed = problem.robot.neutral();
     let sampled = sampled::sample(
         &prepared,
@@ -388,7 +337,7 @@ pub fn place_and_plan_cancellable(
     let mut obstacles = sampled.obstacles;
     let mut plan = best;
     let mut reason = join(plan.reason(), stopped);
-    let cancelled = cancel.is_some_and(|c| c.load(Ordering::Relaxed));
+    let cancelled = termination.is_cancelled();
     if cancelled && settings.method == PlacementMethod::Optimised {
         reason = join(reason, Some("optimisation skipped: cancelled".to_owned()));
     } else if settings.method == PlacementMethod::Optimised {

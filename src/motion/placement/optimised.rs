@@ -37,7 +37,7 @@ struct Compiled {
     solver: NlpSolver,
 }
 
-/// Caller-owned scratch for [`place_and_plan_with`](super::place_and_plan_with): the compiled
+/// Caller-owned scratch for [`place_and_plan`](super::place_and_plan): the compiled
 /// placement NLP, rebuilt only when the robot, `K`, the grasp rotation mode or a setting it
 /// depends on changes (the waypoints, the sample and the obstacles are parameters).
 ///

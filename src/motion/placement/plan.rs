@@ -6,20 +6,40 @@ use std::fmt;
 use nalgebra::DVector;
 
 use crate::scene::collision::Body;
+use crate::scene::collision::BodyName;
 
-/// What a robot configuration touches.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// What a robot configuration touches, by index and by URDF name.
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Obstacle {
     /// Two links of the robot, `(i, j)` with `i < j` (indices into
-    /// [`RobotModel::links`](crate::kinematics::robot::RobotModel::links)).
-    SelfCollision(usize, usize),
+    /// [`RobotModel::links`](crate::kinematics::robot::RobotModel::links)), and their names.
+    SelfCollision(usize, usize, [String; 2]),
     /// A robot link and a scene body.
     Scene {
         /// The robot link.
         link: usize,
         /// The scene body within the margin.
         body: Body,
+        /// The link's URDF name.
+        link_name: String,
+        /// The body's name.
+        body_name: BodyName,
     },
+}
+
+impl fmt::Display for Obstacle {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Obstacle::SelfCollision(_, _, [a, b]) => {
+                write!(f, "robot links {a:?} and {b:?} collide")
+            }
+            Obstacle::Scene {
+                link_name,
+                body_name,
+                ..
+            } => write!(f, "robot link {link_name:?} touches {body_name}"),
+        }
+    }
 }
 
 /// Why a waypoint does not count as reached.
@@ -93,9 +113,9 @@ impl fmt::Display for WaypointFailure {
                     "arm joint {joint} jumps {jump:.3} from the previous waypoint"
                 )
             }
-            WaypointFailure::Collision(o) => write!(f, "collision: {o:?}"),
+            WaypointFailure::Collision(o) => write!(f, "collision: {o}"),
             WaypointFailure::SegmentCollision(o) => {
-                write!(f, "collision on the way from the previous waypoint: {o:?}")
+                write!(f, "collision on the way from the previous waypoint: {o}")
             }
             WaypointFailure::Skipped => write!(f, "not evaluated"),
         }

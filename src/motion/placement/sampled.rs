@@ -3,8 +3,6 @@
 
 use std::collections::BTreeSet;
 use std::f64::consts::PI;
-use std::sync::atomic::Ordering;
-use std::time::Instant;
 
 use nalgebra::{DVector, Point2, Vector2};
 use rand::{Rng, SeedableRng};
@@ -108,7 +106,6 @@ pub(crate) fn sample(
     let mut best: Option<(usize, f64, ManipulationPlan)> = None;
     let (mut drawn, mut rejected) = (0, 0);
     let mut obstacles = BTreeSet::new();
-    let start = Instant::now();
     let mut stopped = None;
     let consider = |base: [f64; 3],
                     best: &mut Option<(usize, f64, ManipulationPlan)>,
@@ -136,12 +133,12 @@ pub(crate) fn sample(
         consider(robot_from, &mut best, &mut obstacles)?;
     }
     while drawn - rejected < sampling.samples && drawn < sampling.max_draws {
-        if start.elapsed() > sampling.budget {
-            stopped = Some(Stop::Budget);
+        if prepared.termination.is_cancelled() {
+            stopped = Some(Stop::Cancelled);
             break;
         }
-        if prepared.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-            stopped = Some(Stop::Cancelled);
+        if prepared.termination.should_stop() {
+            stopped = Some(Stop::Budget);
             break;
         }
         drawn += 1;

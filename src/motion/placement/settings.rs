@@ -219,8 +219,8 @@ impl Default for PlacementSettings {
             manipulation: ManipulationSettings::default(),
             sampling: SamplingSettings::default(),
             optimisation: OptimisationSettings::default(),
-            approach_distance: 0.10,
-            approach_steps: 5,
+            approach_distance: 0.05,
+            approach_steps: 3,
         }
     }
 }

@@ -18,6 +18,6 @@ mod standoff;
 mod sweep;
 
 pub use query::{Contact, collisions, collisions_of, distances, is_collision_free};
-pub use settings::{AllowedCollisions, Body, CollisionSettings, SweepSettings};
+pub use settings::{AllowedCollisions, Body, BodyName, CollisionSettings, SweepSettings};
 pub use standoff::handle_standoff;
 pub use sweep::{InconclusiveReason, SweepOutcome, SweepStatus, check_joint_motion};

@@ -16,6 +16,35 @@ pub enum Body {
     Base(BaseShapeId),
 }
 
+/// A body in a failure report: a part or a base shape, by name.
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BodyName {
+    /// An articulated part.
+    Part(String),
+    /// A static shape of the base map.
+    Base(String),
+}
+
+impl BodyName {
+    /// The name of `body` in `model` (its id must be one of `model`'s).
+    pub fn of(model: &crate::scene::SceneModel, body: Body) -> BodyName {
+        match body {
+            Body::Part(p) => BodyName::Part(model.parts()[p.index()].name().into()),
+            Body::Base(s) => BodyName::Base(model.base().shapes[s.index()].name.clone()),
+        }
+    }
+}
+
+impl std::fmt::Display for BodyName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            BodyName::Part(n) => write!(f, "part {n:?}"),
+            BodyName::Base(n) => write!(f, "base shape {n:?}"),
+        }
+    }
+}
+
 /// Pairs of bodies exempt from collision checking, e.g. a closed door flush against its
 /// carcass. The order within a pair does not matter.
 #[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
