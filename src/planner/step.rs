@@ -39,7 +39,7 @@ use crate::motion::paths::{PathOutcome, first_invalid, plan_arm, plan_base};
 use std::sync::Mutex;
 
 use crate::motion::placement::{PlacementData, PlacementOutcome, PlacementProblem, place_and_plan};
-use crate::motion::timing::{TimedPath, time_parameterise};
+use crate::motion::timing::{BlendSettings, TimedPath, time_optimal, time_parameterise};
 use crate::scene::collision::BodyName;
 use crate::scene::{JointId, PartId, SceneData, SceneModel, State, forward_kinematics};
 use crate::task::{Robot, Step, Termination};
@@ -479,9 +479,18 @@ pub(super) fn refine(
         .chain(free_path.into_iter().skip(1))
         .collect();
 
-    // Timing.
+    // Timing: without stops at the corners where the blended trajectory passes the same
+    // checks, sampled densely; else with stops, exactly on the checked path.
     let b = ctx.robot.base();
-    let base_timed = time_parameterise(&base_path, &b.max_velocity, &b.max_acceleration, Some(2))?;
+    let blend = settings.blend.as_ref();
+    let base_timed = timed(
+        &base_path,
+        (&b.max_velocity, &b.max_acceleration),
+        Some(2),
+        blend,
+        settings.base_check_resolution,
+        &|_, _, p| base_valid(&[p[0], p[1], p[2]]),
+    )?;
     let vmax: Vec<f64> = ctx
         .robot
         .arm_joints()
@@ -494,9 +503,51 @@ pub(super) fn refine(
         .iter()
         .map(|j| j.max_acceleration)
         .collect();
-    let approach_timed = time_parameterise(&approach, &vmax, &amax, None)?;
-    let manipulation_timed = time_parameterise(waypoints, &vmax, &amax, None)?;
-    let retreat_timed = time_parameterise(&retreat, &vmax, &amax, None)?;
+    let limits = (vmax.as_slice(), amax.as_slice());
+    let resolution = settings.arm_check_resolution;
+    let approach_timed = timed(&approach, limits, None, blend, resolution, &|path, t, q| {
+        if t < path.times[pregrasp] {
+            free_before.valid(q)
+        } else {
+            grasping_before.valid(q)
+        }
+    })?;
+    // The manipulation keeps the tool on the handle: its corners are cut by far less.
+    let fine = blend.map(|b| BlendSettings {
+        max_deviation: b.max_deviation.min(settings.manipulation_blend),
+        ..*b
+    });
+    let scratch = std::cell::RefCell::new((state.clone(), SceneData::new(model)));
+    let manipulation_timed = timed(
+        waypoints,
+        limits,
+        None,
+        fine.as_ref(),
+        resolution,
+        &|_, _, q| {
+            let value = value_at(waypoints, q, step.from, step.to);
+            let mut guard = scratch.borrow_mut();
+            let (s, data) = &mut *guard;
+            if s.set(model, joint, value).is_err() || forward_kinematics(model, data, s).is_err() {
+                return false;
+            }
+            ArmCheck {
+                ctx,
+                base,
+                data,
+                exempt: Exempt::Grasp(&ignore),
+                margin: arm_margin,
+            }
+            .valid(q)
+        },
+    )?;
+    let retreat_timed = timed(&retreat, limits, None, blend, resolution, &|path, t, q| {
+        if t <= path.times[postgrasp] {
+            grasping_after.valid(q)
+        } else {
+            free_after.valid(q)
+        }
+    })?;
     let timing = StepTiming {
         base: base_timed.duration,
         approach: approach_timed.duration,
@@ -517,6 +568,62 @@ pub(super) fn refine(
         postgrasp,
         timing,
     }))
+}
+
+/// `path` timed under `limits` (velocity, acceleration per coordinate) without stops at its
+/// corners ([`time_optimal`] with `blend`) when the blended trajectory passes `valid(path, t,
+/// q)` at samples no farther apart than `resolution` in any coordinate (by the velocity
+/// limits); else with stops ([`time_parameterise`]), exactly on the path the planner checked.
+/// `blend = None` always stops.
+fn timed(
+    path: &[Vec<f64>],
+    (vmax, amax): (&[f64], &[f64]),
+    wrap_yaw: Option<usize>,
+    blend: Option<&BlendSettings>,
+    resolution: f64,
+    valid: &dyn Fn(&TimedPath, f64, &[f64]) -> bool,
+) -> Result<TimedPath, PlannerError> {
+    let exact = || time_parameterise(path, vmax, amax, wrap_yaw);
+    let Some(blend) = blend else {
+        return Ok(exact()?);
+    };
+    let blended = time_optimal(path, vmax, amax, wrap_yaw, blend)?;
+    if blended.is_exact() {
+        return Ok(blended);
+    }
+    let speed = vmax.iter().copied().fold(0.0, f64::max);
+    let n = ((blended.duration * speed / resolution).ceil() as usize).max(1);
+    for i in 0..=n {
+        let t = blended.duration * i as f64 / n as f64;
+        if !valid(&blended, t, &blended.sample(t)) {
+            return Ok(exact()?);
+        }
+    }
+    Ok(blended)
+}
+
+/// The moved joint's value where the arm is at `q` on the manipulation (waypoint `k` at
+/// `from + k/K (to − from)`): `q` projected onto the nearest segment of the waypoints' path,
+/// the joint at the same fraction of that segment. The part follows the grasp, so it is where
+/// the arm's progress puts it, whatever the timing (a blend leaves the path by little).
+fn value_at(waypoints: &[Vec<f64>], q: &[f64], from: f64, to: f64) -> f64 {
+    let k = waypoints.len().saturating_sub(1).max(1);
+    let mut best = (f64::INFINITY, 0.0);
+    for (j, w) in waypoints.windows(2).enumerate() {
+        let d: Vec<f64> = w[1].iter().zip(&w[0]).map(|(b, a)| b - a).collect();
+        let r: Vec<f64> = q.iter().zip(&w[0]).map(|(x, a)| x - a).collect();
+        let len2: f64 = d.iter().map(|x| x * x).sum();
+        let f = if len2 > 0.0 {
+            (r.iter().zip(&d).map(|(x, y)| x * y).sum::<f64>() / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let dist2: f64 = r.iter().zip(&d).map(|(x, y)| (x - f * y).powi(2)).sum();
+        if dist2 < best.0 {
+            best = (dist2, j as f64 + f);
+        }
+    }
+    from + (to - from) * best.1 / k as f64
 }
 
 /// The arm's validity at one base pose against one scene state, under one exemption: self

@@ -1,6 +1,7 @@
 //! Errors of the time parameterisation: bad input only.
 
-/// Why [`time_parameterise`](super::time_parameterise) could not be carried out.
+/// Why [`time_parameterise`](super::time_parameterise) or
+/// [`time_optimal`](super::time_optimal) could not be carried out.
 #[non_exhaustive]
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum TimingError {
@@ -54,5 +55,13 @@ pub enum TimingError {
         index: usize,
         /// The waypoints' length.
         dimension: usize,
+    },
+    /// A [`BlendSettings`](super::BlendSettings) value is not positive and finite.
+    #[error("{what} = {value}: must be finite and > 0")]
+    InvalidSetting {
+        /// "max_deviation" or "time_step".
+        what: &'static str,
+        /// The value given.
+        value: f64,
     },
 }

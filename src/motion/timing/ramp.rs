@@ -1,10 +1,8 @@
 //! The scalar rest-to-rest profile: a path parameter `s` from 0 to 1 in minimum time under
 //! `|ṡ| ≤ v`, `|s̈| ≤ a` (bang–coast–bang: a trapezoid in `ṡ`, or a triangle).
 
-use serde::Serialize;
-
 /// A rest-to-rest profile of `s ∈ [0, 1]`, starting at time `start`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Ramp {
     /// Start time (s).
     pub start: f64,
