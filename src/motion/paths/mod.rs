@@ -21,6 +21,7 @@
 //! # Example
 //! ```
 //! use std::time::Duration;
+//! use kinscene::Termination;
 //! use kinscene::motion::paths::{PathOutcome, PathSettings, first_invalid, plan_base};
 //!
 //! // A 4 m × 4 m room with a wall x ∈ [1.9, 2.1], y ≤ 3; a disc base of radius 0.2 m.
@@ -31,7 +32,7 @@
 //! };
 //! let settings = PathSettings { seed: Some(7), ..PathSettings::default() };
 //! let outcome = plan_base([1.0, 1.0, 0.0], [3.0, 1.0, 1.5], ([0.0, 0.0], [4.0, 4.0]),
-//!                         &free, &settings, None)?;
+//!                         &free, &settings, &Termination::none())?;
 //! let PathOutcome::Found(path) = outcome else { panic!("{outcome:?}") };
 //! assert_eq!(path[0], vec![1.0, 1.0, 0.0]);
 //! // Independent re-check at a fifth of the planner's spacing.
@@ -56,7 +57,8 @@ pub use recheck::first_invalid;
 pub struct PathSettings {
     /// The OMPL planner. Default RRTConnect.
     pub planner: Planner,
-    /// Wall-clock budget for planning and simplification together. Default 1 s.
+    /// Wall-clock budget for planning and simplification together, capping the caller's
+    /// [`Termination`](crate::Termination) for one path. Default 1 s.
     pub budget: Duration,
     /// Validity-check spacing along motions, in the space's distance (SE(2): metres plus
     /// half the yaw difference in radians, OMPL's weighting; joint space: the Euclidean norm,
