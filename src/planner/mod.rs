@@ -26,9 +26,11 @@
 //! comes from, which is not part of the task state; a base-path failure is nevertheless vetoed
 //! for the state. The task layer's grid path check makes such failures rare.
 
+mod arm_check;
 mod document;
 mod settings;
 mod step;
+mod timed;
 
 pub use document::{MotionDocument, StepDocument};
 pub use settings::PlannerSettings;

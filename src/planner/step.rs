@@ -32,6 +32,8 @@ use std::fmt;
 
 use nalgebra::DVector;
 
+use super::arm_check::ArmCheck;
+use super::timed::{timed, value_at};
 use super::{PlannerError, PlannerSettings};
 use crate::kinematics::ik::IkSolver;
 use crate::kinematics::robot::{Exempt, RobotCollision, RobotConfig, RobotModel};
@@ -39,8 +41,7 @@ use crate::motion::paths::{PathOutcome, first_invalid, plan_arm, plan_base};
 use std::sync::Mutex;
 
 use crate::motion::placement::{PlacementData, PlacementOutcome, PlacementProblem, place_and_plan};
-use crate::motion::timing::{BlendSettings, TimedPath, time_optimal, time_parameterise};
-use crate::scene::collision::BodyName;
+use crate::motion::timing::{BlendSettings, TimedPath};
 use crate::scene::{JointId, PartId, SceneData, SceneModel, State, forward_kinematics};
 use crate::task::{Robot, Step, Termination};
 
@@ -568,127 +569,6 @@ pub(super) fn refine(
         postgrasp,
         timing,
     }))
-}
-
-/// `path` timed under `limits` (velocity, acceleration per coordinate) without stops at its
-/// corners ([`time_optimal`] with `blend`) when the blended trajectory passes `valid(path, t,
-/// q)` at samples no farther apart than `resolution` in any coordinate (by the velocity
-/// limits); else with stops ([`time_parameterise`]), exactly on the path the planner checked.
-/// `blend = None` always stops.
-fn timed(
-    path: &[Vec<f64>],
-    (vmax, amax): (&[f64], &[f64]),
-    wrap_yaw: Option<usize>,
-    blend: Option<&BlendSettings>,
-    resolution: f64,
-    valid: &dyn Fn(&TimedPath, f64, &[f64]) -> bool,
-) -> Result<TimedPath, PlannerError> {
-    let exact = || time_parameterise(path, vmax, amax, wrap_yaw);
-    let Some(blend) = blend else {
-        return Ok(exact()?);
-    };
-    let blended = time_optimal(path, vmax, amax, wrap_yaw, blend)?;
-    if blended.is_exact() {
-        return Ok(blended);
-    }
-    let speed = vmax.iter().copied().fold(0.0, f64::max);
-    let n = ((blended.duration * speed / resolution).ceil() as usize).max(1);
-    for i in 0..=n {
-        let t = blended.duration * i as f64 / n as f64;
-        if !valid(&blended, t, &blended.sample(t)) {
-            return Ok(exact()?);
-        }
-    }
-    Ok(blended)
-}
-
-/// The moved joint's value where the arm is at `q` on the manipulation (waypoint `k` at
-/// `from + k/K (to − from)`): `q` projected onto the nearest segment of the waypoints' path,
-/// the joint at the same fraction of that segment. The part follows the grasp, so it is where
-/// the arm's progress puts it, whatever the timing (a blend leaves the path by little).
-fn value_at(waypoints: &[Vec<f64>], q: &[f64], from: f64, to: f64) -> f64 {
-    let k = waypoints.len().saturating_sub(1).max(1);
-    let mut best = (f64::INFINITY, 0.0);
-    for (j, w) in waypoints.windows(2).enumerate() {
-        let d: Vec<f64> = w[1].iter().zip(&w[0]).map(|(b, a)| b - a).collect();
-        let r: Vec<f64> = q.iter().zip(&w[0]).map(|(x, a)| x - a).collect();
-        let len2: f64 = d.iter().map(|x| x * x).sum();
-        let f = if len2 > 0.0 {
-            (r.iter().zip(&d).map(|(x, y)| x * y).sum::<f64>() / len2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let dist2: f64 = r.iter().zip(&d).map(|(x, y)| (x - f * y).powi(2)).sum();
-        if dist2 < best.0 {
-            best = (dist2, j as f64 + f);
-        }
-    }
-    from + (to - from) * best.1 / k as f64
-}
-
-/// The arm's validity at one base pose against one scene state, under one exemption: self
-/// collision, and the scene within `margin` ([`RobotCollision::scene_collision`]).
-struct ArmCheck<'a> {
-    ctx: &'a StepContext<'a>,
-    base: [f64; 3],
-    data: &'a SceneData,
-    exempt: Exempt<'a>,
-    margin: f64,
-}
-
-/// What an invalid arm configuration touches.
-enum Hit {
-    /// The configuration has no pose (wrong length, not finite).
-    Unposable,
-    /// Two robot links.
-    SelfCollision(String, String),
-    /// A robot link within the margin of a scene body.
-    Scene(String, BodyName, f64),
-}
-
-impl fmt::Display for Hit {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Hit::Unposable => f.write_str("the arm configuration has no pose"),
-            Hit::SelfCollision(a, b) => write!(f, "robot links {a:?} and {b:?} collide"),
-            Hit::Scene(link, body, margin) => write!(
-                f,
-                "robot link {link:?} comes within {:.0} mm of {body}",
-                1000.0 * margin
-            ),
-        }
-    }
-}
-
-impl ArmCheck<'_> {
-    /// The first thing the robot touches at arm configuration `q`, or `None` if it is valid.
-    fn hit(&self, q: &[f64]) -> Option<Hit> {
-        let ctx = self.ctx;
-        let cfg = RobotConfig {
-            base: self.base,
-            arm: DVector::from_column_slice(q),
-        };
-        let Ok(poses) = ctx.robot.link_poses(&cfg) else {
-            return Some(Hit::Unposable);
-        };
-        let name = |l: usize| ctx.robot.links()[l].name.clone();
-        if let Some((a, b)) = ctx.collision.self_collision(&poses) {
-            return Some(Hit::SelfCollision(name(a), name(b)));
-        }
-        ctx.collision
-            .scene_collision(&poses, ctx.model, self.data, self.exempt, self.margin)
-            .map(|(l, body)| Hit::Scene(name(l), BodyName::of(ctx.model, body), self.margin))
-    }
-
-    fn valid(&self, q: &[f64]) -> bool {
-        self.hit(q).is_none()
-    }
-
-    /// [`ArmCheck::hit`] in words.
-    fn describe(&self, q: &[f64]) -> String {
-        self.hit(q)
-            .map_or_else(|| "no collision found".to_owned(), |h| h.to_string())
-    }
 }
 
 /// Dense re-check of the manipulation: between consecutive waypoints the arm and the joint are
