@@ -263,10 +263,13 @@ pub(crate) fn new_part(
     if !boxed {
         notes.push("no part geometry: registered without a collider".into());
     }
+    // The handle faces where its front faces: the front's fitted normal, not the normal the
+    // wrist camera estimated at the contact, which a patch at the bar's side or the front's
+    // edge tilts by tens of degrees (the planner approaches and retreats along it).
     spec = spec.with_handle(Handle::new(
         format!("{name}_handle"),
         part_from_world * grasp,
-        part_from_world * observed.normal.into_inner(),
+        part_from_world * normal,
     ));
     let world_from_part = world_from_joint;
     let closed = spec
