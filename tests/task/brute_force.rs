@@ -418,7 +418,7 @@ proptest! {
 proptest! {
     #![proptest_config(config(16))]
 
-    /// Up to 8 joints and 6 goal joints, as the issue allows: 10–20 s per instance.
+    /// Up to 8 joints and 6 goal joints: 10–20 s per instance.
     #[test]
     #[ignore = "slow: 10-20 s per instance; run with --ignored"]
     fn brute_force_up_to_eight_joints(

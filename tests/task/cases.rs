@@ -1,4 +1,4 @@
-//! The named cases of issue 4 on hand-built kitchens, each expectation derived from the
+//! Named task-search cases on hand-built kitchens, each expectation derived from the
 //! geometry in a comment, plus bad input and the generator's own invariants.
 //!
 //! Geometry (tests/task/generators.rs): the south run's frame puts the carcass fronts on

@@ -1,5 +1,4 @@
 //! Simulated perception: a ray-cast depth camera (head and wrist) and a handle detector.
-//! OWNER: sensors helper. Signatures fixed by the shared contract.
 //!
 //! Both sensors ray-cast against a snapshot of the world's colliders ([`Placed`]): the static
 //! kitchen, the parts and the robot's own links, so the robot occludes its cameras for free.

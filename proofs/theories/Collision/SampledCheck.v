@@ -1,4 +1,4 @@
-(** * SampledCheck: the sampled sweep check cannot miss a collision (issue 8, theorem 1,
+(** * SampledCheck: the sampled sweep check cannot miss a collision (theorem 1,
     corollary).
 
     Models [check_joint_motion] (src/scene/collision/sweep.rs) and its interval search

@@ -1,4 +1,4 @@
-(** * Rodrigues: the rotation matrix of the paper's Eq. (3) is a rotation (issue 8, theorem 2).
+(** * Rodrigues: the rotation matrix of the paper's Eq. (3) is a rotation (theorem 2).
 
     Models: [JointAxis::rodrigues] (src/scene/motion/axis.rs),
     [R(φ) = I + sin φ [u]× + (1 − cos φ) [u]×²] with the joint's unit world direction [u]

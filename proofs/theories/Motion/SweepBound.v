@@ -1,4 +1,4 @@
-(** * SweepBound: how far a point of a moving subtree travels (issue 8, theorem 1).
+(** * SweepBound: how far a point of a moving subtree travels (theorem 1).
 
     Models src/scene/motion/bound.rs:
     - [lipschitz], [max_displacement]: [MotionBound::lipschitz] ([L = r] revolute, [L = 1]

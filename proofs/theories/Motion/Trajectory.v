@@ -1,4 +1,4 @@
-(** * Trajectory: the grasp-point trajectory of Eq. (4)/(5) (issue 8, theorem 2).
+(** * Trajectory: the grasp-point trajectory of Eq. (4)/(5) (theorem 2).
 
     Models [grasp_trajectory] (src/scene/motion/trajectory.rs): with [p], [n] the handle's
     world point and normal at the start value [a], the joint's world axis ([pivot] q, unit

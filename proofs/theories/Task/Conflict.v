@@ -1,4 +1,4 @@
-(** * Conflict: the static goal-conflict pre-check is sound (issue 4).
+(** * Conflict: the static goal-conflict pre-check is sound.
 
     Models [static_conflict] (src/task/conflict.rs), which [search::run] calls before the
     rounds and whose [Some] makes the search return [Infeasible] at once:

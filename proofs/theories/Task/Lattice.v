@@ -1,4 +1,4 @@
-(** * Lattice: the finite state space of the task search (issue 8, theorems 3 and 4).
+(** * Lattice: the finite state space of the task search (theorems 3 and 4).
 
     Models src/task/lattice.rs and the move relation of src/task/search.rs [run]:
     - a lattice state is a [Key]: one value index per joint (the Rust [Key = Vec<u16>]);

@@ -1,5 +1,5 @@
 (** * Requeue: the round with the move re-queue and early growth, and the whole
-    [search::run] with its static pre-checks (issue 4, theorems 3 and 4 for the current code).
+    [search::run] with its static pre-checks (theorems 3 and 4 for the current code).
 
     Search.v models a round in which every popped move is evaluated at once, and Rounds.v
     rounds that run until exhausted. The Rust round (src/task/search.rs, [run]) does two more

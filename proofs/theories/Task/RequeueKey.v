@@ -1,4 +1,4 @@
-(** * RequeueKey: the key of a re-queued move is a lower bound (issue 4).
+(** * RequeueKey: the key of a re-queued move is a lower bound.
 
     Models the priority arithmetic of the move re-queue in [search::run]
     (src/task/search.rs) and [Checker::move_bound] (src/task/check.rs), over real numbers:

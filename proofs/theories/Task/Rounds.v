@@ -1,5 +1,5 @@
 (** * Rounds: the active-set rounds of the search — the projection lemma and the whole
-    planner (issue 8, theorems 3 and 4).
+    planner (theorems 3 and 4).
 
     Models the outer [loop] of [search::run] (src/task/search.rs) and the "Active joints"
     paragraph of src/task/mod.rs:

@@ -1,5 +1,5 @@
-(** * Search: one round of the lattice search terminates, is complete and sound (issue 8,
-    theorems 3 and 4).
+(** * Search: one round of the lattice search terminates, is complete and sound
+    (theorems 3 and 4).
 
     Models one round of [search::run] (src/task/search.rs: the body of [loop], i.e. the
     [while let Some(entry) = heap.pop()] loop for a fixed active set [A]) as a generic

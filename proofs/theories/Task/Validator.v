@@ -1,4 +1,4 @@
-(** * Validator: the predicate a returned plan must satisfy (issue 8, theorem 4).
+(** * Validator: the predicate a returned plan must satisfy (theorem 4).
 
     Models [task::validate] (src/task/validate.rs): replay the plan from [problem.start];
     each step must name a joint and a value of it (check 1, [InvalidStep] otherwise; here: a
