@@ -1,14 +1,12 @@
 //! The arm's validity during a step: self-collision and the scene under one exemption, with
 //! what it touches named by URDF names.
 
-use std::fmt;
-
 use nalgebra::DVector;
 
 use super::step::StepContext;
 use crate::kinematics::robot::{Exempt, RobotConfig};
+use crate::motion::placement::Obstacle;
 use crate::scene::SceneData;
-use crate::scene::collision::BodyName;
 
 /// The arm's validity at one base pose against one scene state, under one exemption: self
 /// collision, and the scene within `margin` ([`RobotCollision::scene_collision`]).
@@ -20,57 +18,49 @@ pub(super) struct ArmCheck<'a> {
     pub margin: f64,
 }
 
-/// What an invalid arm configuration touches.
-pub(super) enum Hit {
-    /// The configuration has no pose (wrong length, not finite).
-    Unposable,
-    /// Two robot links.
-    SelfCollision(String, String),
-    /// A robot link within the margin of a scene body.
-    Scene(String, BodyName, f64),
-}
-
-impl fmt::Display for Hit {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Hit::Unposable => f.write_str("the arm configuration has no pose"),
-            Hit::SelfCollision(a, b) => write!(f, "robot links {a:?} and {b:?} collide"),
-            Hit::Scene(link, body, margin) => write!(
-                f,
-                "robot link {link:?} comes within {:.0} mm of {body}",
-                1000.0 * margin
-            ),
-        }
-    }
-}
-
 impl ArmCheck<'_> {
-    /// The first thing the robot touches at arm configuration `q`, or `None` if it is valid.
-    pub(super) fn hit(&self, q: &[f64]) -> Option<Hit> {
-        let ctx = self.ctx;
+    /// The robot's link poses at arm configuration `q` (`None`: `q` has no pose).
+    fn poses(&self, q: &[f64]) -> Option<Vec<nalgebra::Isometry3<f64>>> {
         let cfg = RobotConfig {
             base: self.base,
             arm: DVector::from_column_slice(q),
         };
-        let Ok(poses) = ctx.robot.link_poses(&cfg) else {
-            return Some(Hit::Unposable);
-        };
-        let name = |l: usize| ctx.robot.links()[l].name.clone();
-        if let Some((a, b)) = ctx.collision.self_collision(&poses) {
-            return Some(Hit::SelfCollision(name(a), name(b)));
-        }
-        ctx.collision
-            .scene_collision(&poses, ctx.model, self.data, self.exempt, self.margin)
-            .map(|(l, body)| Hit::Scene(name(l), BodyName::of(ctx.model, body), self.margin))
+        self.ctx.robot.link_poses(&cfg).ok()
     }
 
+    /// Whether `q` is free of self-collision and keeps `margin` from the scene.
     pub(super) fn valid(&self, q: &[f64]) -> bool {
-        self.hit(q).is_none()
+        let ctx = self.ctx;
+        self.poses(q).is_some_and(|poses| {
+            ctx.collision.self_collision(&poses).is_none()
+                && ctx
+                    .collision
+                    .scene_collision(&poses, ctx.model, self.data, self.exempt, self.margin)
+                    .is_none()
+        })
     }
 
-    /// [`ArmCheck::hit`] in words.
+    /// What the robot touches at `q`, in words with URDF names (`None` if it is valid).
+    pub(super) fn hit(&self, q: &[f64]) -> Option<String> {
+        let ctx = self.ctx;
+        let Some(poses) = self.poses(q) else {
+            return Some("the arm configuration has no pose".to_owned());
+        };
+        Obstacle::at(
+            ctx.robot,
+            ctx.collision,
+            ctx.model,
+            &poses,
+            self.data,
+            self.exempt,
+            self.margin,
+        )
+        .map(|o| format!("{o} (margin {:.0} mm)", 1000.0 * self.margin))
+    }
+
+    /// [`ArmCheck::hit`], or that nothing was found.
     pub(super) fn describe(&self, q: &[f64]) -> String {
         self.hit(q)
-            .map_or_else(|| "no collision found".to_owned(), |h| h.to_string())
+            .unwrap_or_else(|| "no collision found".to_owned())
     }
 }

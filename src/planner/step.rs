@@ -447,7 +447,7 @@ pub(super) fn refine(
             exempt: Exempt::Grasp(&ignore),
             margin: arm_margin,
         };
-        arm.hit(q).map(|h| h.to_string())
+        arm.hit(q)
     })? {
         return Ok(Err(fail(Check::Manipulation, reason)));
     }

@@ -45,6 +45,16 @@ pub struct GraspFrame {
 }
 
 impl GraspFrame {
+    /// The same frame moved `distance` (m) out along the handle's outward normal (against the
+    /// approach), orientation kept.
+    pub fn out_by(&self, distance: f64) -> GraspFrame {
+        let shift = -self.approach.into_inner() * distance;
+        let mut frame = *self;
+        frame.position += shift;
+        frame.world_from_tool.translation.vector += shift;
+        frame
+    }
+
     /// The IK target for a base at `world_from_base`, in the base frame (the IK's root frame).
     pub fn ik_target(&self, world_from_base: &Isometry3<f64>, rotation: GraspRotation) -> IkTarget {
         let base_from_world = world_from_base.inverse();
@@ -142,13 +152,7 @@ impl JointMotion {
         if steps == 0 || distance <= 0.0 {
             return self;
         }
-        let out = |g: &GraspFrame, i: usize| {
-            let shift = -g.approach.into_inner() * (distance * i as f64 / steps as f64);
-            let mut frame = *g;
-            frame.position += shift;
-            frame.world_from_tool.translation.vector += shift;
-            frame
-        };
+        let out = |g: &GraspFrame, i: usize| g.out_by(distance * i as f64 / steps as f64);
         let (first, last) = (self.grasps[0], self.grasps[self.grasps.len() - 1]);
         let before = (1..=steps).rev().map(|i| out(&first, i));
         let after = (1..=steps).map(|i| out(&last, i));
@@ -178,9 +182,7 @@ impl JointMotion {
     /// part's front.
     pub fn with_standoff(mut self, standoff: f64) -> JointMotion {
         for g in &mut self.grasps {
-            let shift = -g.approach.into_inner() * standoff;
-            g.position += shift;
-            g.world_from_tool.translation.vector += shift;
+            *g = g.out_by(standoff);
         }
         self
     }

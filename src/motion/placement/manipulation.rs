@@ -12,7 +12,6 @@ use crate::control::Termination;
 use crate::kinematics::ik::{IkData, IkOutcome, IkTarget};
 use crate::kinematics::robot::{ArmJointKind, Exempt, RobotConfig, RobotModel};
 use crate::scene::collision::Body;
-use crate::scene::collision::BodyName;
 use crate::scene::{PartId, SceneData, forward_kinematics};
 
 /// A bound on where the arm can put the tool: the origin of the first arm joint (in the base
@@ -151,23 +150,13 @@ impl<'a> Prepared<'a> {
             base,
             arm: q.clone(),
         })?;
-        let name = |l: usize| p.robot.links()[l].name.clone();
-        if let Some((i, j)) = p.collision.self_collision(&poses) {
-            return Ok(Some(Obstacle::SelfCollision(i, j, [name(i), name(j)])));
+        let exempt = Exempt::Grasp(&self.moving);
+        if let Some(o) = Obstacle::at(p.robot, p.collision, p.model, &poses, data, exempt, margin) {
+            return Ok(Some(o));
         }
-        let scene = |(link, body)| Obstacle::Scene {
-            link,
-            body,
-            link_name: name(link),
-            body_name: BodyName::of(p.model, body),
-        };
-        if let Some(hit) =
-            p.collision
-                .scene_collision(&poses, p.model, data, Exempt::Grasp(&self.moving), margin)
-        {
-            return Ok(Some(scene(hit)));
-        }
-        Ok(self.base_obstacle(&poses, data, margin).map(scene))
+        Ok(self
+            .base_obstacle(&poses, data, margin)
+            .map(|hit| Obstacle::scene(p.robot, p.model, hit)))
     }
 
     /// The base links (a prefix of `poses` up to the last of

@@ -5,8 +5,12 @@ use std::fmt;
 
 use nalgebra::DVector;
 
+use nalgebra::Isometry3;
+
+use crate::kinematics::robot::{Exempt, RobotCollision, RobotModel};
 use crate::scene::collision::Body;
 use crate::scene::collision::BodyName;
+use crate::scene::{SceneData, SceneModel};
 
 /// What a robot configuration touches, by index and by URDF name.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -25,6 +29,43 @@ pub enum Obstacle {
         /// The body's name.
         body_name: BodyName,
     },
+}
+
+impl Obstacle {
+    /// What the robot at `link_poses` (world from link) touches, named: the first
+    /// self-colliding link pair, else the first link within `margin` of the scene in `data`
+    /// under `exempt` ([`RobotCollision::scene_collision`]); `None` if it is free.
+    pub(crate) fn at(
+        robot: &RobotModel,
+        collision: &RobotCollision,
+        model: &SceneModel,
+        link_poses: &[Isometry3<f64>],
+        data: &SceneData,
+        exempt: Exempt<'_>,
+        margin: f64,
+    ) -> Option<Obstacle> {
+        let name = |l: usize| robot.links()[l].name.clone();
+        if let Some((i, j)) = collision.self_collision(link_poses) {
+            return Some(Obstacle::SelfCollision(i, j, [name(i), name(j)]));
+        }
+        collision
+            .scene_collision(link_poses, model, data, exempt, margin)
+            .map(|hit| Obstacle::scene(robot, model, hit))
+    }
+
+    /// A robot link touching a scene body, named.
+    pub(crate) fn scene(
+        robot: &RobotModel,
+        model: &SceneModel,
+        (link, body): (usize, Body),
+    ) -> Obstacle {
+        Obstacle::Scene {
+            link,
+            body,
+            link_name: robot.links()[link].name.clone(),
+            body_name: BodyName::of(model, body),
+        }
+    }
 }
 
 impl fmt::Display for Obstacle {
