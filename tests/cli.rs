@@ -666,3 +666,88 @@ fn plan_with_a_bad_robot_file_is_bad_input() {
     ]);
     assert_bad_input(&output);
 }
+
+// ----- a start state in collision -----
+
+/// A counter box x ∈ [0, 0.6], y ∈ [0, 1], z ∈ [0, 0.9] on the floor, a drawer that slides
+/// along +x out of it and is modelled 0.1 m too deep (its box x ∈ [0.5, 0.9] at value 0
+/// overlaps the counter by 0.1 m), and a door hinged at x = -1 that touches nothing. Hand
+/// geometry: only the drawer/counter pair overlaps at the zero state.
+fn drawer_in_counter_scene() -> PathBuf {
+    scratch_file(
+        "cli_drawer_in_counter.urdf",
+        r#"<robot name="room">
+  <link name="room">
+    <collision name="counter">
+      <origin xyz="0.3 0.5 0.45"/>
+      <geometry><box size="0.6 1.0 0.9"/></geometry>
+    </collision>
+  </link>
+  <link name="drawer">
+    <collision><origin xyz="0.7 0.5 0.6"/><geometry><box size="0.4 0.4 0.15"/></geometry></collision>
+  </link>
+  <link name="drawer_handle"/>
+  <joint name="drawer_slide" type="prismatic">
+    <parent link="room"/><child link="drawer"/>
+    <axis xyz="1 0 0"/><limit lower="0" upper="0.4" effort="1" velocity="1"/>
+  </joint>
+  <joint name="drawer_handle_joint" type="fixed">
+    <parent link="drawer"/><child link="drawer_handle"/><origin xyz="0.95 0.5 0.6"/>
+  </joint>
+  <link name="door">
+    <collision><origin xyz="-1 0.25 0.4"/><geometry><box size="0.02 0.5 0.8"/></geometry></collision>
+  </link>
+  <link name="door_handle"/>
+  <joint name="door_hinge" type="revolute">
+    <parent link="room"/><child link="door"/><origin xyz="0 0 0"/>
+    <axis xyz="0 0 1"/><limit lower="0" upper="1.5" effort="1" velocity="1"/>
+  </joint>
+  <joint name="door_handle_joint" type="fixed">
+    <parent link="door"/><child link="door_handle"/><origin xyz="-1.03 0.45 0.4"/>
+  </joint>
+</robot>
+"#,
+    )
+}
+
+#[test]
+fn inspect_flags_a_start_state_in_collision() {
+    let scene = drawer_in_counter_scene();
+    let output = kinscene(&["inspect", "--scene", arg(&scene)]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "stderr: {stderr}");
+    assert!(
+        stderr.contains("warning") && stderr.contains("drawer") && stderr.contains("counter"),
+        "{stderr}"
+    );
+    let doc: Value = serde_json::from_slice(&output.stdout).unwrap();
+    let pairs = doc["zero_state_collisions"].as_array().unwrap();
+    assert_eq!(pairs.len(), 1, "{pairs:?}");
+    assert_eq!(pairs[0]["a"]["part"], "drawer");
+    assert_eq!(pairs[0]["b"]["base"], "counter");
+    assert_eq!(pairs[0]["distance"], 0.0);
+    // The kitchen's zero state is free (inspect_kitchen also asserts an empty stderr).
+    assert!(inspect_kitchen()["zero_state_collisions"]
+        .as_array()
+        .unwrap()
+        .is_empty());
+}
+
+#[test]
+fn plan_refuses_a_start_state_in_collision_at_once() {
+    let scene = drawer_in_counter_scene();
+    let goal = scratch_file(
+        "cli_drawer_in_counter.toml",
+        "[goal]\ndoor_hinge = { min = 1.2 }\n[robot]\nbase = [-1.5, 1.5, 0.0]\n",
+    );
+    let output = kinscene(&[
+        "plan", "--scene", arg(&scene), "--goal", arg(&goal), "--budget", "60s",
+    ]);
+    let line = assert_bad_input(&output);
+    assert!(
+        line.contains("start state is in collision")
+            && line.contains("\"drawer\"")
+            && line.contains("\"counter\""),
+        "{line}"
+    );
+}

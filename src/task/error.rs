@@ -66,6 +66,14 @@ pub enum Error {
         /// The parser's message, with line and column where it gives them.
         message: String,
     },
+    /// Bodies already collide in the start state: a modelling error (a drawer inside its
+    /// counter, a door through its carcass) that no plan can repair, since every sweep starts
+    /// in contact. Lists every colliding pair.
+    #[error("the start state is in collision: {}", list_pairs(pairs))]
+    StartInCollision {
+        /// The colliding pairs, by name.
+        pairs: Vec<super::CollidingPair>,
+    },
     /// A plan refers to a step that does not fit the model (unknown joint, value outside the
     /// limits, `from` not equal to the current value).
     #[error("plan step {step}: {message}")]
@@ -75,4 +83,15 @@ pub enum Error {
         /// What is wrong.
         message: String,
     },
+}
+
+/// "a and b; c and d" for the message of [`Error::StartInCollision`].
+fn list_pairs(pairs: &[super::CollidingPair]) -> String {
+    let shown: Vec<String> = pairs.iter().take(8).map(ToString::to_string).collect();
+    let more = pairs.len().saturating_sub(shown.len());
+    if more > 0 {
+        format!("{} and {more} more pairs", shown.join("; "))
+    } else {
+        shown.join("; ")
+    }
 }

@@ -129,6 +129,7 @@ mod reach;
 mod refine;
 mod search;
 mod settings;
+mod start;
 mod validate;
 
 pub use error::Error;
@@ -143,6 +144,7 @@ pub use plan::{
 };
 pub use refine::{MoveContext, NoRefinement, Refinement, Refiner};
 pub use settings::{CostWeights, LatticeSettings, ManipulationSettings, Strategy, TaskSettings};
+pub use start::{CollidingPair, colliding_pairs};
 pub use validate::{MAX_SWEEP_SAMPLES, Validation, validate};
 
 /// The crate's one termination condition ([`crate::control`]), re-exported where the task
@@ -155,7 +157,8 @@ use crate::scene::{JointId, SceneData, SceneModel};
 ///
 /// # Errors
 /// Only for bad input: [`Error::InvalidSetting`], a robot start outside the grid or inside an
-/// obstacle ([`Error::InvalidRobotStart`]), a start state that does not fit the model.
+/// obstacle ([`Error::InvalidRobotStart`]), a start state that does not fit the model, a start
+/// state in which bodies collide ([`Error::StartInCollision`], checked before any search).
 /// Infeasible goals and exhausted budgets are [`Outcome`]s.
 ///
 /// # Example
@@ -189,6 +192,7 @@ pub fn plan(
 ) -> Result<PlanResult, Error> {
     settings.validate()?;
     problem.start.validate(model)?;
+    start::check_start(model, &problem.start, &settings.sweep.collision)?;
     match settings.strategy {
         Strategy::Search => search::run(model, problem, settings, refiner, termination),
         Strategy::Random { seed } => baseline::random(model, problem, settings, termination, seed),

@@ -22,6 +22,8 @@ use kinscene::scene::{
 use nalgebra::{Isometry3, Point3, Vector3};
 use serde::Serialize;
 
+use kinscene::task::{CollidingPair, TaskSettings, colliding_pairs};
+
 use crate::input::SceneArgs;
 use crate::{CliError, Verdict};
 
@@ -51,6 +53,19 @@ pub struct Args {
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<Verdict, CliError> {
     let model = args.input.load()?;
     let report = Report::new(&model, &args.input.scene)?;
+    if !report.zero_state_collisions.is_empty() {
+        eprintln!(
+            "kinscene: warning: {} colliding pair(s) at the zero state (a planner refuses this \
+             start state): {}",
+            report.zero_state_collisions.len(),
+            report
+                .zero_state_collisions
+                .iter()
+                .map(ToString::to_string)
+                .collect::<Vec<_>>()
+                .join("; ")
+        );
+    }
     serde_json::to_writer_pretty(&mut *out, &report)
         .map_err(|e| CliError::new(format!("cannot write JSON: {e}")))?;
     writeln!(out).map_err(|e| CliError::new(format!("cannot write JSON: {e}")))?;
@@ -64,6 +79,7 @@ struct Report {
     file: String,
     name: Option<String>,
     zero_state: BTreeMap<String, f64>,
+    zero_state_collisions: Vec<CollidingPair>,
     joints: Vec<JointReport>,
     handles: Vec<HandleReport>,
     base_shapes: Vec<BaseShapeReport>,
@@ -257,11 +273,16 @@ impl Report {
 
         let grid = model.base_grid();
         let zero_state = state.to_map(model).map_err(internal)?;
+        // The predicate the planner's start check uses (its default sweep settings).
+        let collision = TaskSettings::default().sweep.collision;
+        let zero_state_collisions = colliding_pairs(model, &state, &collision)
+            .map_err(|e| CliError::new(format!("cannot evaluate the scene: {e}")))?;
         Ok(Report {
             format: FORMAT,
             file: file.display().to_string(),
             name: base_name,
             zero_state,
+            zero_state_collisions,
             joints,
             handles,
             base_shapes,
