@@ -78,6 +78,20 @@
 //! the order). Without travel the heuristic is close to the cost, a single pass of
 //! `heuristic_weight` is usually faster, and it is what runs.
 //!
+//! **The dive.** Before the passes, with [`TaskSettings::dive`] (default on), a greedy
+//! depth-first dive moves the unmet goal joints straight to their targets, the handle nearest
+//! the robot first, each move checked by the same predicate, backing up from states where no
+//! goal move is feasible, within 16 + 8 move evaluations per goal joint (`greedy.rs`). On a
+//! large room where most orders work this is the first plan after a few evaluations per goal
+//! joint, where the passes may expand many states before their first goal. Its plan is
+//! returned at once when its cost is within `heuristic_weight` of the start's lower bound;
+//! otherwise it is the incumbent of the passes (each then keeps only items below its cost).
+//! A pass above `heuristic_weight` that exhausts its items below the incumbent proves it
+//! within that pass's weight only (it closes states on first arrival in focal order), so the
+//! final pass then runs below it as well. The dive moves no joint outside the goal and no joint
+//! to an intermediate value, so it is not complete; the passes are, and its plans are made of
+//! moves the passes would accept, so verdicts and proofs are those of the passes.
+//!
 //! The robot's start cell anchors reachability: a move is feasible only if its base pose is
 //! connected to the start cell both before and after the move. A move whose part comes to
 //! cover the start cell is therefore `Trapped` (the robot could not get back to where it
@@ -121,6 +135,7 @@ mod check;
 mod conflict;
 mod error;
 mod goal;
+mod greedy;
 mod grid;
 mod heuristic;
 mod lattice;

@@ -220,6 +220,10 @@ pub struct SearchStats {
     /// for the baselines).
     #[serde(default, with = "opt_secs")]
     pub first_plan: Option<Duration>,
+    /// Whether the search's first plan came from its greedy dive (goal joints straight to
+    /// their targets, nearest handle first) rather than from the lattice search.
+    #[serde(default)]
+    pub greedy_first_plan: bool,
     /// For a plan the search returns: a proven factor `≥ 1` with cost ≤ factor × the least
     /// cost of any plan over the joints active at the end (1: minimal; see the [module
     /// docs](super#anytime)). `None` for other outcomes and for the baselines.

@@ -12,9 +12,10 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::check::{Blockers, Caches, Checker, Key, SweepVerdict, Verdict};
+use super::check::{Blockers, Caches, Checker, Choice, Key, SweepVerdict, Verdict};
 use super::conflict::static_conflict;
 use super::goal::Problem;
+use super::greedy;
 use super::heuristic::Heuristic;
 use super::lattice::Lattice;
 use super::plan::{
@@ -269,6 +270,42 @@ pub(crate) fn run(
     stats.passes = 1;
     // The lower bound on the cost still to pay from a state with the robot at `cell`.
     let h = |key: &[u16], cell: usize| heuristic.work(key) + heuristic.travel_of(key).at(cell);
+    // The greedy dive's plan, if it finds one, is the first incumbent: returned at once when
+    // it is already proven within the final weight of the start's lower bound.
+    if settings.dive && !problem.goal.is_satisfied(&problem.start) {
+        let cx = greedy::Context {
+            model,
+            problem,
+            settings,
+            lattice: &lattice,
+            checker: &checker,
+            refiner,
+        };
+        if let Some(d) = greedy::dive(
+            &cx,
+            &mut caches,
+            &mut data,
+            &start_key,
+            &mut stats,
+            termination,
+        )? {
+            stats.first_plan = Some(started.elapsed());
+            stats.greedy_first_plan = true;
+            let least = h(&start_key, checker.start_cell);
+            let factor = if d.cost <= least { 1.0 } else { d.cost / least };
+            let inc = Incumbent {
+                steps: d.steps,
+                cost: d.cost,
+                factor,
+            };
+            if factor <= final_w + 1e-9 {
+                stats.elapsed = started.elapsed();
+                stats.vetoes = caches.vetoes;
+                return Ok(inc.solved(factor, stats));
+            }
+            incumbent = Some(inc);
+        }
+    }
     let mut active = vec![false; model.nq()];
     for (j, _) in problem.goal.targets() {
         close_over_ancestors(model, *j, &mut active);
@@ -378,8 +415,8 @@ pub(crate) fn run(
                         let factor = if g <= least { 1.0 } else { g / least };
                         let steps = path_to(&nodes, idx);
                         stats.first_plan.get_or_insert(started.elapsed());
-                        if factor <= final_w + 1e-9 || incumbent.is_some() {
-                            // Within the final weight, or a pass-2 plan (cheaper than the
+                        if factor <= final_w + 1e-9 || w <= final_w {
+                            // Within the final weight, or a final-pass plan (cheaper than any
                             // incumbent by the cap, and within `final_w` by the focal rule).
                             stats.elapsed = started.elapsed();
                             stats.vetoes = caches.vetoes;
@@ -512,31 +549,11 @@ pub(crate) fn run(
                         to,
                         refiner,
                     )?;
-                    let (a, b) = (
-                        lattice.values(joint)[key[joint.index()] as usize],
-                        lattice.values(joint)[to as usize],
-                    );
                     match verdict {
                         Verdict::Feasible(choice) => {
-                            let c = &settings.cost;
-                            let cost = c.action
-                                + c.actuation * choice.actuation
-                                + c.travel * choice.travel;
+                            let (step, cost) =
+                                feasible_step(model, &lattice, settings, &key, joint, to, &choice);
                             let g = nodes[from].g + cost;
-                            let step = Step {
-                                joint: model.joints()[joint.index()].name.clone(),
-                                from: a,
-                                to: b,
-                                handle: Some(
-                                    model
-                                        .handle(choice.handle)
-                                        .map(|h| h.name.clone())
-                                        .unwrap_or_default(),
-                                ),
-                                base: Some(choice.base),
-                                travel: choice.travel,
-                                cost,
-                            };
                             seq += 1;
                             heap.push(Entry {
                                 f: g + h(&next, choice.cell),
@@ -616,9 +633,24 @@ pub(crate) fn run(
         if !grow {
             stats.elapsed = started.elapsed();
             stats.vetoes = caches.vetoes;
-            if let Some(inc) = incumbent {
-                // No plan below the incumbent's cost over the active joints: it is minimal.
-                return Ok(inc.solved(1.0, stats));
+            if let Some(inc) = incumbent.take() {
+                if w > final_w {
+                    // A pass above the final weight closes states on first arrival in focal
+                    // order, so its exhausting below the cap (the dive's incumbent) proves the
+                    // incumbent within `w` only: run the final pass below it.
+                    incumbent = Some(Incumbent {
+                        factor: inc.factor.min(w),
+                        ..inc
+                    });
+                    w = final_w;
+                    stats.passes = 2;
+                    stats.rounds -= 1;
+                    continue 'passes;
+                }
+                // No plan below the incumbent's cost over the active joints: with `w = 1` it
+                // is minimal.
+                let factor = inc.factor.min(w);
+                return Ok(inc.solved(factor, stats));
             }
             let why = infeasibility(
                 model,
@@ -702,6 +734,36 @@ fn close_over_ancestors(model: &SceneModel, joint: JointId, active: &mut [bool])
         active[p.index()] = true;
         id = p;
     }
+}
+
+/// The step and its cost (the search's) of a feasible move of `joint` from its value in
+/// `key` to lattice value `to`.
+pub(super) fn feasible_step(
+    model: &SceneModel,
+    lattice: &Lattice,
+    settings: &TaskSettings,
+    key: &[u16],
+    joint: JointId,
+    to: u16,
+    choice: &Choice,
+) -> (Step, f64) {
+    let c = &settings.cost;
+    let cost = c.action + c.actuation * choice.actuation + c.travel * choice.travel;
+    let step = Step {
+        joint: model.joints()[joint.index()].name.clone(),
+        from: lattice.values(joint)[key[joint.index()] as usize],
+        to: lattice.values(joint)[to as usize],
+        handle: Some(
+            model
+                .handle(choice.handle)
+                .map(|h| h.name.clone())
+                .unwrap_or_default(),
+        ),
+        base: Some(choice.base),
+        travel: choice.travel,
+        cost,
+    };
+    (step, cost)
 }
 
 /// The anytime search's best plan so far.

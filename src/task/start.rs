@@ -23,7 +23,11 @@ pub struct CollidingPair {
 impl std::fmt::Display for CollidingPair {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         if self.distance > 0.0 {
-            write!(f, "{} and {} ({:.4} m apart)", self.a, self.b, self.distance)
+            write!(
+                f,
+                "{} and {} ({:.4} m apart)",
+                self.a, self.b, self.distance
+            )
         } else {
             write!(f, "{} and {} (overlapping)", self.a, self.b)
         }
