@@ -469,7 +469,7 @@ fn plan_runs_the_baselines_with_consistent_exit_codes() {
         };
         assert_eq!(output.status.code(), Some(want), "{strategy}");
     }
-    // --seed has no meaning for the search.
+    // --seed has no meaning for the search without --robot.
     let output = plan_kitchen(&goal_path("dishwasher.toml"), &["--seed", "7"]);
     assert!(assert_bad_input(&output).contains("--seed"));
 }
@@ -727,10 +727,12 @@ fn inspect_flags_a_start_state_in_collision() {
     assert_eq!(pairs[0]["b"]["base"], "counter");
     assert_eq!(pairs[0]["distance"], 0.0);
     // The kitchen's zero state is free (inspect_kitchen also asserts an empty stderr).
-    assert!(inspect_kitchen()["zero_state_collisions"]
-        .as_array()
-        .unwrap()
-        .is_empty());
+    assert!(
+        inspect_kitchen()["zero_state_collisions"]
+            .as_array()
+            .unwrap()
+            .is_empty()
+    );
 }
 
 #[test]
@@ -741,7 +743,13 @@ fn plan_refuses_a_start_state_in_collision_at_once() {
         "[goal]\ndoor_hinge = { min = 1.2 }\n[robot]\nbase = [-1.5, 1.5, 0.0]\n",
     );
     let output = kinscene(&[
-        "plan", "--scene", arg(&scene), "--goal", arg(&goal), "--budget", "60s",
+        "plan",
+        "--scene",
+        arg(&scene),
+        "--goal",
+        arg(&goal),
+        "--budget",
+        "60s",
     ]);
     let line = assert_bad_input(&output);
     assert!(

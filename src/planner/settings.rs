@@ -1,5 +1,7 @@
 //! Settings of the hierarchical planner.
 
+use std::time::Duration;
+
 use nalgebra::DVector;
 
 use super::PlannerError;
@@ -16,12 +18,19 @@ use crate::task::TaskSettings;
 pub struct PlannerSettings {
     /// The task search (strategy, lattice, costs, manipulation regions).
     pub task: TaskSettings,
-    /// Inverse kinematics.
+    /// Inverse kinematics. The planner's default keeps [`IkSettings::default`] but for 15
+    /// restarts and a 1 s budget: the iteration counts (16 attempts of at most 100 steps, about
+    /// 50 ms on the Gen3) then end a solve, not the wall clock, so a solve gives the same
+    /// answer on a loaded machine; the budget is a safety net.
     pub ik: IkSettings,
     /// Base placement and the manipulation trajectory.
     pub placement: PlacementSettings,
     /// OMPL settings of the base and arm paths (the budget is per path, capped by what is
-    /// left of the overall budget).
+    /// left of the overall budget). The planner's default seeds OMPL (`seed: Some(1)`): with
+    /// the IK's iteration limits and the placement's seeded sampling, the same input then
+    /// gives the same plan, as long as no path search ends on its wall-clock budget (a path
+    /// that is hard to find, or does not exist, ends there; raise `paths.budget` to make that
+    /// rarer). Seeded path searches are serialised process-wide (OMPL has one generator).
     pub paths: PathSettings,
     /// Clearance (m) the robot keeps from the scene along base paths (arm paths keep the
     /// smaller of this and the placement's `manipulation.margin`, since they start or end at
@@ -59,9 +68,16 @@ impl Default for PlannerSettings {
     fn default() -> Self {
         PlannerSettings {
             task: TaskSettings::default(),
-            ik: IkSettings::default(),
+            ik: IkSettings {
+                restarts: 15,
+                budget: Duration::from_secs(1),
+                ..IkSettings::default()
+            },
             placement: PlacementSettings::default(),
-            paths: PathSettings::default(),
+            paths: PathSettings {
+                seed: Some(1),
+                ..PathSettings::default()
+            },
             margin: 0.02,
             stow: None,
             arm_check_resolution: 0.01,
@@ -73,6 +89,17 @@ impl Default for PlannerSettings {
 }
 
 impl PlannerSettings {
+    /// These settings with every random choice of the motion layer drawn from `seed`: OMPL's
+    /// generator for each path search (`paths.seed`; OMPL cannot take 0, which becomes 1),
+    /// the IK restarts (`ik.seed`) and the placement's base-pose sampler
+    /// (`placement.sampling.seed`). Equal seeds give equal plans (see `paths`).
+    pub fn seeded(mut self, seed: u64) -> Self {
+        self.paths.seed = Some(seed);
+        self.ik.seed = seed;
+        self.placement.sampling.seed = seed;
+        self
+    }
+
     /// Checks the settings against `robot`.
     ///
     /// # Errors

@@ -920,7 +920,7 @@ fn the_drawer_plan_keeps_the_contact_rule() {
 /// wide and 0.16 m tall, its centre 0.04 m from the free edge at the door's mid-height (z = 0.5, as
 /// the drawer's handle sits on its front's centre); its grasp point is the bar's centre, its
 /// normal outward (-x when closed).
-fn counter_with_door() -> SceneModel {
+pub(super) fn counter_with_door() -> SceneModel {
     let mut b = SceneModelBuilder::new();
     b.add_base_shape(kinscene::scene::BaseShape::new(
         "counter",

@@ -28,11 +28,14 @@ pub fn run(
     model: &SceneModel,
     problem: &Problem,
     settings: TaskSettings,
+    seed: Option<u64>,
     budget: (Duration, &str),
     out_path: Option<&Path>,
     out: &mut dyn Write,
 ) -> Result<Verdict, CliError> {
-    imp::run(robot, goal, model, problem, settings, budget, out_path, out)
+    imp::run(
+        robot, goal, model, problem, settings, seed, budget, out_path, out,
+    )
 }
 
 #[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
@@ -51,6 +54,7 @@ mod imp {
         model: &SceneModel,
         problem: &Problem,
         settings: TaskSettings,
+        seed: Option<u64>,
         (budget, budget_text): (Duration, &str),
         out_path: Option<&Path>,
         out: &mut dyn Write,
@@ -62,13 +66,16 @@ mod imp {
                 .map_err(|e| CliError::new(format!("{}: {e}", robot.display())))?
         };
         let name = robot_model.name().to_string();
-        let planner = HierarchicalPlanner::new(
-            robot_model,
-            PlannerSettings {
+        let planner = HierarchicalPlanner::new(robot_model, {
+            let s = PlannerSettings {
                 task: settings,
                 ..PlannerSettings::default()
-            },
-        )
+            };
+            match seed {
+                Some(seed) => s.seeded(seed),
+                None => s,
+            }
+        })
         .map_err(|e| CliError::new(format!("{}: {e}", robot.display())))?;
         let termination = Termination::after(budget);
         let result = planner
@@ -113,6 +120,7 @@ mod imp {
         _model: &SceneModel,
         _problem: &Problem,
         _settings: TaskSettings,
+        _seed: Option<u64>,
         _budget: (Duration, &str),
         _out_path: Option<&Path>,
         _out: &mut dyn Write,

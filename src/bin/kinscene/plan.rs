@@ -82,7 +82,9 @@ pub struct Args {
     /// The planner: the complete lattice search, or one of the paper's baselines.
     #[arg(long, value_enum, default_value_t = StrategyArg::Search)]
     strategy: StrategyArg,
-    /// Seed of the `random` and `paper` baselines' order sampler [default: 0].
+    /// Seed of the `random` and `paper` baselines' order sampler [default: 0], and with
+    /// `--robot` of the motion layer (OMPL, IK restarts, base-pose sampling) [default: 1]: the
+    /// same inputs and seed give the same plan.
     #[arg(long, value_name = "N")]
     seed: Option<u64>,
     /// Refine the plan with motion for this robot: a robot URDF, or `gen3` for the shipped
@@ -133,16 +135,16 @@ fn parse_duration(text: &str) -> Result<Duration, String> {
 /// # Errors
 /// A [`CliError`] naming the file for unreadable or malformed inputs, a goal that does not fit
 /// the scene (unknown joint, value outside the limits, robot start outside the grid or in an
-/// obstacle), a malformed `--budget`, `--seed` with `--strategy search`, or an `--out` file
+/// obstacle), a malformed `--budget`, `--seed` with `--strategy search` and no `--robot`, or an `--out` file
 /// that cannot be written.
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<Verdict, CliError> {
     let budget = parse_duration(&args.budget)
         .map_err(|e| CliError::new(format!("invalid --budget {:?}: {e}", args.budget)))?;
     let seed = args.seed.unwrap_or(0);
     let strategy = match args.strategy {
-        StrategyArg::Search if args.seed.is_some() => {
+        StrategyArg::Search if args.seed.is_some() && args.robot.is_none() => {
             return Err(CliError::new(
-                "--seed applies to --strategy random and paper only",
+                "--seed applies to --strategy random and paper, or with --robot",
             ));
         }
         StrategyArg::Search => Strategy::Search,
@@ -162,6 +164,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<Verdict, CliError> {
             &model,
             &problem,
             settings,
+            args.seed,
             (budget, args.budget.trim()),
             args.out.as_deref(),
             out,
