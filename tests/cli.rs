@@ -759,3 +759,22 @@ fn plan_refuses_a_start_state_in_collision_at_once() {
         "{line}"
     );
 }
+
+#[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
+#[test]
+fn breakfast_with_the_gen3_is_infeasible_with_the_reach_in_numbers() {
+    // The tall wall cabinet's handle (z 1.463 m, over the counter) is beyond the Gen3's arm
+    // reach from every free base cell (tests/planner/reach.rs checks the bound against
+    // Pinocchio's FK): exit 3 from the task level, naming the joint and both distances, with
+    // no motion planned. The same goal without a robot is solved (the disc model has no arm).
+    let output = plan_kitchen(
+        &goal_path("breakfast.toml"),
+        &["--robot", "gen3", "--budget", "60s"],
+    );
+    assert_eq!(output.status.code(), Some(3));
+    let line = verdict_line(&output, "infeasible");
+    assert!(
+        line.contains("wall_door_tall_hinge") && line.contains("spans at most 0.735 m"),
+        "{line}"
+    );
+}

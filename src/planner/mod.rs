@@ -28,11 +28,13 @@
 
 mod arm_check;
 mod document;
+mod reach;
 mod settings;
 mod step;
 mod timed;
 
 pub use document::{MotionDocument, StepDocument};
+pub use reach::arm_reach;
 pub use settings::PlannerSettings;
 pub use step::{Check, StepFailure, StepMotion, StepTiming};
 
@@ -231,8 +233,20 @@ impl HierarchicalPlanner {
     /// # Errors
     /// Invalid settings; a robot whose collision model or IK solver cannot be built.
     pub fn new(robot: RobotModel, settings: PlannerSettings) -> Result<Self, PlannerError> {
+        let mut settings = settings;
         settings.validate(&robot)?;
         let collision = RobotCollision::new(&robot)?;
+        if settings.task.manipulation.arm.is_none() {
+            let standoff = collision.fingertip_reach(&robot).unwrap_or(0.0).max(0.0)
+                + settings.placement.manipulation.finger_clearance;
+            let mut arm = reach::arm_reach(&robot, standoff);
+            // The IK's tolerances: the tool within `position_tolerance` of its target and its
+            // axis within `rotation_tolerance`, which moves the wrist point by up to that angle
+            // times its distance from the tool.
+            arm.wrist_radius += settings.ik.position_tolerance
+                + settings.ik.rotation_tolerance * arm.wrist_out[1].abs().hypot(arm.wrist_radius);
+            settings.task.manipulation.arm = Some(arm);
+        }
         let ik = IkSolver::new(robot.pinocchio(), robot.tool_frame(), settings.ik.clone())?;
         Ok(HierarchicalPlanner {
             robot,

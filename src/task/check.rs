@@ -566,7 +566,11 @@ impl<'a> Checker<'a> {
                     let c = grid.cell_center(i, j);
                     let ok = traj.iter().all(|p| {
                         let d = (c.x - p.position.x).hypot(c.y - p.position.y);
-                        d >= m.reach_min && d <= m.reach_max
+                        d >= m.reach_min
+                            && d <= m.reach_max
+                            && m.arm.is_none_or(|arm| {
+                                arm.admits([c.x, c.y], &p.position, &p.normal, 0.0)
+                            })
                     }) && (c.x - p0.x) * n0.x + (c.y - p0.y) * n0.y >= 0.0;
                     if ok && !grid.is_occupied(i, j) {
                         out.push(RegionCell {

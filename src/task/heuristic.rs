@@ -61,6 +61,10 @@ pub(crate) struct Heuristic<'a> {
     /// Per goal target (in `problem.goal.targets()` order): the cells of `C_j`, ascending;
     /// `None` if unbounded.
     sets: Vec<Option<Vec<usize>>>,
+    /// Per goal target: the least [`ArmReach::span`](super::ArmReach::span) over the cells
+    /// of the start's free component within the annulus of a final handle position (∞ without
+    /// an arm reach or such a cell).
+    spans: Vec<f64>,
     /// Per goal target: `D_j` per cell (m), computed on first use.
     fields: Vec<OnceCell<Vec<f64>>>,
     /// `d(C_i, C_k)` (m) for goal targets `i`, `k`, computed on first use.
@@ -107,6 +111,7 @@ impl<'a> Heuristic<'a> {
             settings,
             radii,
             sets: Vec::with_capacity(n),
+            spans: Vec::with_capacity(n),
             fields: (0..n).map(|_| OnceCell::new()).collect(),
             pairs: (0..n * n).map(|_| OnceCell::new()).collect(),
             width,
@@ -118,11 +123,15 @@ impl<'a> Heuristic<'a> {
             let mut flood = Flood::new(&heuristic.free, checker.start_cell);
             let reachable = flood.complete(&heuristic.free).to_vec();
             for (joint, _) in problem.goal.targets() {
-                let set = heuristic.final_move_set(model, checker, data, *joint, &reachable)?;
+                let mut span = f64::INFINITY;
+                let set = heuristic
+                    .final_move_set(model, checker, data, *joint, &reachable, &mut span)?;
                 heuristic.sets.push(set);
+                heuristic.spans.push(span);
             }
         } else {
             heuristic.sets = vec![None; n];
+            heuristic.spans = vec![f64::INFINITY; n];
         }
         Ok(heuristic)
     }
@@ -137,6 +146,7 @@ impl<'a> Heuristic<'a> {
         data: &mut SceneData,
         joint: JointId,
         reachable: &[bool],
+        least_span: &mut f64,
     ) -> Result<Option<Vec<usize>>, Error> {
         let Some(target) = self.problem.goal.target(joint) else {
             return Ok(None);
@@ -181,6 +191,7 @@ impl<'a> Heuristic<'a> {
                 let world_from_part = data.world_from_parts()[part.id().index()];
                 for handle in part.handles() {
                     let p = world_from_part * handle.position;
+                    let n = world_from_part * handle.normal;
                     if p.z < m.height_min - SLACK || p.z > m.height_max + SLACK {
                         continue;
                     }
@@ -191,7 +202,16 @@ impl<'a> Heuristic<'a> {
                             let d = (c.x - p.x).hypot(c.y - p.y);
                             let cell = j * w + i;
                             if d >= m.reach_min - SLACK && d <= r && reachable[cell] {
-                                member[cell] = true;
+                                match &m.arm {
+                                    Some(arm) => {
+                                        let span = arm.span([c.x, c.y], &p, &n);
+                                        *least_span = least_span.min(span);
+                                        if span <= arm.radius + SLACK {
+                                            member[cell] = true;
+                                        }
+                                    }
+                                    None => member[cell] = true,
+                                }
                             }
                         }
                     }
@@ -210,6 +230,13 @@ impl<'a> Heuristic<'a> {
             .filter(|(_, s)| s.as_ref().is_some_and(|s| s.is_empty()))
             .map(|(k, _)| k)
             .collect()
+    }
+
+    /// For goal target `k` (an index into `problem.goal.targets()`): the least shoulder-to-wrist
+    /// span any free base cell within the annulus of its final handle positions needs, when the
+    /// arm reach is set and such a cell exists.
+    pub fn least_arm_span(&self, k: usize) -> Option<f64> {
+        self.spans.get(k).copied().filter(|s| s.is_finite())
     }
 
     /// The cost of moving `joint` from value index `from` to `to` without base travel, at

@@ -158,7 +158,9 @@ pub use plan::{
     PlanStatus, SearchStats, Step,
 };
 pub use refine::{MoveContext, NoRefinement, Refinement, Refiner};
-pub use settings::{CostWeights, LatticeSettings, ManipulationSettings, Strategy, TaskSettings};
+pub use settings::{
+    ArmReach, CostWeights, LatticeSettings, ManipulationSettings, Strategy, TaskSettings,
+};
 pub use start::{CollidingPair, colliding_pairs};
 pub use validate::{MAX_SWEEP_SAMPLES, Validation, validate};
 

@@ -232,9 +232,19 @@ pub(crate) fn run(
             let (joint, target) = problem.goal.targets()[k];
             let name = model.joints()[joint.index()].name.clone();
             let from = problem.start.as_slice()[joint.index()];
+            let arm = settings.manipulation.arm.as_ref();
+            let reach = match (heuristic.least_arm_span(k), arm) {
+                (Some(span), Some(arm)) if span > arm.radius => format!(
+                    ": from every free base cell within reach of its handle, holding it needs \
+                     the arm to span at least {span:.3} m from the shoulder to the wrist, and it \
+                     spans at most {:.3} m",
+                    arm.radius
+                ),
+                _ => String::new(),
+            };
             Some(Infeasibility {
                 message: format!(
-                    "no plan in the lattice: no base pose can operate {name} into its target"
+                    "no plan in the lattice: no base pose can operate {name} into its target{reach}"
                 ),
                 unreached: vec![name.clone()],
                 conflicts: vec![Failure {

@@ -89,7 +89,8 @@ impl Default for CostWeights {
 /// Eq. (3)–(5) trajectory: `reach_min <= |c − p_k|_xy <= reach_max` and
 /// `height_min <= p_k.z <= height_max`; the handle's outward normal at the start `n_0` is at
 /// most `max_normal_elevation` above or below horizontal (`|n_0.z| <= sin`, a side grasp);
-/// and `c` lies on the outward side of the handle at the start, `(c − p_0)_xy · n_0 >= 0`.
+/// and `c` lies on the outward side of the handle at the start, `(c − p_0)_xy · n_0 >= 0`;
+/// with an [`arm`](Self::arm) reach, the arm can span every `p_k` from `c` too.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ManipulationSettings {
     /// Smallest horizontal base-to-grasp distance (m). Default 0.25.
@@ -107,6 +108,103 @@ pub struct ManipulationSettings {
     /// Steps K of the grasp trajectory checked against the reach limits, `1..=1000`.
     /// Default 16.
     pub steps: usize,
+    /// The robot's arm reach: with it, a base cell is admissible only if, at every grasp
+    /// point, the arm can span the distance from its shoulder to its wrist
+    /// ([`ArmReach::span`] `<= radius`). `None` (default): the annulus and height band alone.
+    /// The hierarchical planner fills it from its robot when it is `None`.
+    #[serde(default)]
+    pub arm: Option<ArmReach>,
+}
+
+/// A conservative bound on where an arm can hold a handle, from the robot's geometry: the
+/// tool's origin on the grasp point with its approach axis (+z) along the handle's inward
+/// normal and any rotation about it (the placement's side grasp).
+///
+/// The *wrist point* is a point fixed in the tool frame (a joint origin, e.g. the last
+/// joint's). Its distance from the *shoulder* (a joint origin near the arm's base) is at most
+/// [`radius`](Self::radius) whatever the joints do (each joint origin is a fixed distance
+/// from the previous one); see `kinscene::planner::arm_reach` for how the planner
+/// derives them from a robot model. The wrist point is
+/// fixed in the tool frame: `wrist_out` out along the handle's normal from the grasp point
+/// (the tool's offset behind its origin, plus the grasp's standoff) and `wrist_radius` off
+/// the approach axis, in a direction set by the free rotation. Holding grasp point `p`
+/// (outward normal `n`) from a base at `c` therefore needs the arm to span at least
+/// [`span`](Self::span), and a cell whose span exceeds the radius cannot be a base pose
+/// for it: a necessary condition, never ruling out a pose the arm could reach.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ArmReach {
+    /// The shoulder in the base frame (m; x forward, y left, z up from the floor).
+    pub shoulder: [f64; 3],
+    /// Horizontal distance (m) within which the shoulder stays of `shoulder` (a shoulder
+    /// point carried round a vertical first axis).
+    #[serde(default)]
+    pub shoulder_radius: f64,
+    /// Upper bound (m) on the shoulder-to-wrist distance over all configurations.
+    pub radius: f64,
+    /// Least and largest distance (m) of the wrist point's projection on the approach axis
+    /// out from the grasp point along the outward normal (the standoff's range).
+    pub wrist_out: [f64; 2],
+    /// Distance (m) of the wrist point from the approach axis, plus any slack the bound's
+    /// derivation needs (subtracted from every span).
+    pub wrist_radius: f64,
+}
+
+impl ArmReach {
+    /// A lower bound (m) on the shoulder-to-wrist distance needed to hold grasp point `p` with
+    /// outward unit normal `n` from a base centred at `c` (x, y), whatever the base's yaw:
+    /// the shoulder lies within `|shoulder_xy| + shoulder_radius` of `c` at the shoulder's
+    /// height, the wrist within `wrist_radius` of the segment `p + t·n`, `t` in `wrist_out`.
+    pub fn span(&self, c: [f64; 2], p: &nalgebra::Point3<f64>, n: &nalgebra::Vector3<f64>) -> f64 {
+        let w = p + n * self.wrist_out[0];
+        let offset = self.shoulder[0].hypot(self.shoulder[1]) + self.shoulder_radius;
+        let horizontal = ((w.x - c[0]).hypot(w.y - c[1]) - offset).max(0.0);
+        let vertical = w.z - self.shoulder[2];
+        // Moving along the segment or off the axis changes the distance by at most as much.
+        horizontal.hypot(vertical) - (self.wrist_out[1] - self.wrist_out[0]) - self.wrist_radius
+    }
+
+    /// Whether the arm may hold `p` (normal `n`) from a base at `c`: [`span`](Self::span) `<=
+    /// radius + slack`.
+    pub fn admits(
+        &self,
+        c: [f64; 2],
+        p: &nalgebra::Point3<f64>,
+        n: &nalgebra::Vector3<f64>,
+        slack: f64,
+    ) -> bool {
+        self.span(c, p, n) <= self.radius + slack
+    }
+
+    /// Checks the fields: finite, `radius > 0`, `wrist_out[0] <= wrist_out[1]`,
+    /// `wrist_radius >= 0`.
+    pub fn validate(&self) -> Result<(), Error> {
+        let bad = |what: &str, value: f64| Error::InvalidSetting {
+            what: format!("manipulation.arm.{what}"),
+            value,
+        };
+        for (k, v) in self.shoulder.iter().enumerate() {
+            if !v.is_finite() {
+                return Err(bad(["shoulder[0]", "shoulder[1]", "shoulder[2]"][k], *v));
+            }
+        }
+        if !(self.radius.is_finite() && self.radius > 0.0) {
+            return Err(bad("radius", self.radius));
+        }
+        let [lo, hi] = self.wrist_out;
+        if !lo.is_finite() {
+            return Err(bad("wrist_out[0]", lo));
+        }
+        if !(hi.is_finite() && hi >= lo) {
+            return Err(bad("wrist_out[1]", hi));
+        }
+        if !(self.wrist_radius.is_finite() && self.wrist_radius >= 0.0) {
+            return Err(bad("wrist_radius", self.wrist_radius));
+        }
+        if !(self.shoulder_radius.is_finite() && self.shoulder_radius >= 0.0) {
+            return Err(bad("shoulder_radius", self.shoulder_radius));
+        }
+        Ok(())
+    }
 }
 
 impl Default for ManipulationSettings {
@@ -118,6 +216,7 @@ impl Default for ManipulationSettings {
             height_max: 2.0,
             max_normal_elevation: 1.0,
             steps: 16,
+            arm: None,
         }
     }
 }
@@ -259,6 +358,9 @@ impl TaskSettings {
         }
         if !(1..=1000).contains(&m.steps) {
             return Err(bad("manipulation.steps", m.steps as f64));
+        }
+        if let Some(arm) = &m.arm {
+            arm.validate()?;
         }
         Ok(())
     }

@@ -79,7 +79,9 @@ pub struct Validation {
 ///    - the [manipulation region](super::ManipulationSettings): at the `K + 1` grasp points
 ///      `p_k` of [`grasp_trajectory`], `height_min <= p_k.z <= height_max`, the start normal
 ///      at most `max_normal_elevation` from horizontal, and
-///      `reach_min <= |c − p_k|_xy <= reach_max`, and `(c − p_0)_xy · n_0 >= 0`;
+///      `reach_min <= |c − p_k|_xy <= reach_max` (and, with an arm reach set,
+///      [`ArmReach::admits`](super::ArmReach::admits) at every `p_k`), and
+///      `(c − p_0)_xy · n_0 >= 0`;
 ///    - `c`'s cell is free in the occupancy of the state before the move
 ///      ([`occupancy`] inflated by the robot radius) and connected to the robot's start cell
 ///      through free cells (8-connected, a diagonal step needs both side cells free);
@@ -516,7 +518,10 @@ impl<'a> Replay<'a> {
                 let (p0, n0) = (traj[0].position, traj[0].normal);
                 traj.iter().all(|p| {
                     let d = (x - p.position.x).hypot(y - p.position.y);
-                    d >= m.reach_min && d <= m.reach_max
+                    d >= m.reach_min
+                        && d <= m.reach_max
+                        && m.arm
+                            .is_none_or(|arm| arm.admits([x, y], &p.position, &p.normal, 0.0))
                 }) && (x - p0.x) * n0.x + (y - p0.y) * n0.y >= 0.0
             })
         };

@@ -1,6 +1,7 @@
 //! The hierarchical planner end to end: task order, placement, OMPL paths, timing.
 
 mod contact;
+mod reach;
 
 use std::time::Duration;
 
@@ -195,37 +196,6 @@ fn drawer_is_planned_end_to_end_and_every_phase_checks_out() {
     let back = MotionDocument::from_json(&doc.to_json()).unwrap();
     assert_eq!(back.motion.len(), 1);
     assert_eq!(back.plan.steps.len(), 1);
-}
-
-#[test]
-fn a_handle_out_of_reach_is_infeasible_with_the_placement_named() {
-    // 1.99 m high, inside the task level's handle height band (up to 2 m), so only the motion
-    // layer can tell: the Gen3's first joint is about 0.4 m above the floor and the arm with
-    // the gripper reaches 1.23 m from it, and the handle is 0.05 m in front of a 0.9 m counter
-    // the base cannot enter.
-    let model = counter_with_drawer(1.99);
-    let problem = problem(
-        &model,
-        "[goal]\ndrawer_slide = { min = 0.25 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
-    );
-    let result = planner()
-        .plan(
-            &model,
-            &problem,
-            &Termination::after(Duration::from_secs(60)),
-        )
-        .expect("valid input");
-    let MotionOutcome::Infeasible { vetoes, .. } = &result.outcome else {
-        panic!("expected infeasible, got {:?}", result.outcome);
-    };
-    // Every target value of the drawer the task lattice offers was tried once and vetoed by the
-    // placement; no other part is involved, so no other order was proposed.
-    assert!(!vetoes.is_empty());
-    for v in vetoes {
-        assert_eq!(v.check, Check::Placement, "{v}");
-        assert_eq!(v.joint, "drawer_slide");
-    }
-    assert_eq!(result.task_plans, vetoes.len() + 1);
 }
 
 #[test]
