@@ -778,3 +778,54 @@ fn breakfast_with_the_gen3_is_infeasible_with_the_reach_in_numbers() {
         "{line}"
     );
 }
+
+#[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
+#[test]
+fn the_tool_link_of_a_robot_urdf_is_named_on_the_command_line() {
+    let scene = scratch_file("counter3.urdf", COUNTER_URDF);
+    let goal = scratch_file(
+        "counter_goal3.toml",
+        "[goal]\ndrawer_slide = { min = 0.25 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
+    );
+    let urdf = Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/kinova_gen3_mobile.urdf");
+    let run = |robot: &str, link: &str| {
+        kinscene(&[
+            "plan",
+            "--scene",
+            arg(&scene),
+            "--goal",
+            arg(&goal),
+            "--robot",
+            robot,
+            "--tool-link",
+            link,
+            "--budget",
+            "1s",
+        ])
+    };
+    // A link the URDF does not have: bad input naming it.
+    let line = assert_bad_input(&run(arg(&urdf), "no_such_link"));
+    assert!(line.contains("no_such_link"), "{line}");
+    // The shipped robot has its tool fixed.
+    let line = assert_bad_input(&run("gen3", "end_effector_link"));
+    assert!(line.contains("--tool-link"), "{line}");
+    // Without a robot the flag means nothing (clap's usage error).
+    let output = kinscene(&[
+        "plan",
+        "--scene",
+        arg(&scene),
+        "--goal",
+        arg(&goal),
+        "--tool-link",
+        "x",
+    ]);
+    assert_eq!(output.status.code(), Some(2));
+    // The flange instead of the TCP loads (the verdict depends on the planner, not the flag).
+    let output = run(arg(&urdf), "end_effector_link");
+    assert_ne!(
+        output.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+}

@@ -449,7 +449,8 @@ fn bad_urdfs_give_typed_errors() {
     ));
     assert!(matches!(
         load(&toy_with(r#"<sphere radius="0.03"/>"#, r#"<mesh filename="package://x/l2.stl"/>"#)),
-        RobotError::MeshCollision { link, filename } if link == "l2" && filename == "package://x/l2.stl"
+        RobotError::MeshCollision { link, filename, reason }
+            if link == "l2" && filename == "package://x/l2.stl" && reason.contains("package")
     ));
     assert!(matches!(
         load(&toy_with(r#"<sphere radius="0.03"/>"#, r#"<sphere radius="-0.03"/>"#)),
@@ -800,4 +801,95 @@ fn contact_links_are_named_by_convention_or_by_the_options() {
             other => panic!("expected InvalidContactLink for {link:?}, got {other:?}"),
         }
     }
+}
+
+/// An OBJ of the box [−a, a] × [−b, b] × [−c, c] with one extra vertex at its centre (not on
+/// the hull).
+fn box_obj(a: f64, b: f64, c: f64) -> String {
+    let mut out = String::from("o body\n");
+    for (x, y, z) in [
+        (-a, -b, -c),
+        (a, -b, -c),
+        (a, b, -c),
+        (-a, b, -c),
+        (-a, -b, c),
+        (a, -b, c),
+        (a, b, c),
+        (-a, b, c),
+        (0.0, 0.0, 0.0),
+    ] {
+        out.push_str(&format!("v {x} {y} {z}\n"));
+    }
+    out.push_str("f 1 2 3\nf 1 3 4\nf 1 2 6\nf 1 6 5\nf 9 1 2\nf 5 6 7\nf 5 7 8\n");
+    out
+}
+
+#[test]
+fn mesh_collision_geometry_loads_as_convex_hulls() {
+    // TOY with l2's sphere replaced by a box mesh, once by a path relative to the URDF file and
+    // once through a package with a scale of 2 (the box top at z = 0.03 goes to 0.06).
+    let dir = std::env::temp_dir().join(format!("kinscene_robot_mesh_{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("pkg/meshes")).unwrap();
+    std::fs::write(dir.join("pkg/meshes/l2.obj"), box_obj(0.05, 0.04, 0.03)).unwrap();
+    let relative = toy_with(
+        r#"<sphere radius="0.03"/>"#,
+        r#"<mesh filename="pkg/meshes/l2.obj"/>"#,
+    );
+    let file = dir.join("toy.urdf");
+    std::fs::write(&file, &relative).unwrap();
+    let robot = RobotModel::from_urdf_file(&file).unwrap();
+    let l2 = robot.links().iter().find(|l| l.name == "l2").unwrap();
+    assert_eq!(l2.colliders.len(), 1);
+    let kinscene::scene::Shape::ConvexMesh { vertices, .. } = &l2.colliders[0].shape else {
+        panic!("expected a convex mesh, got {:?}", l2.colliders[0].shape);
+    };
+    // The faces' vertices, spanning the box (hand geometry: the centre vertex is inside).
+    for (axis, half) in [(0, 0.05), (1, 0.04), (2, 0.03)] {
+        let hi = vertices.iter().map(|p| p[axis]).fold(f64::MIN, f64::max);
+        let lo = vertices.iter().map(|p| p[axis]).fold(f64::MAX, f64::min);
+        assert!(
+            (hi - half).abs() < 1e-6 && (lo + half).abs() < 1e-6,
+            "axis {axis}"
+        );
+    }
+    // The collision model compiles the hull.
+    RobotCollision::new(&robot).unwrap();
+    // Through a package, with a scale.
+    let packaged = toy_with(
+        r#"<sphere radius="0.03"/>"#,
+        r#"<mesh filename="package://pkg/meshes/l2.obj" scale="2 2 2"/>"#,
+    );
+    let options = RobotImportOptions {
+        package_paths: [("pkg".to_string(), dir.join("pkg"))].into_iter().collect(),
+        ..RobotImportOptions::default()
+    };
+    let robot = RobotModel::from_urdf_str_with(&packaged, &options).unwrap();
+    let l2 = robot.links().iter().find(|l| l.name == "l2").unwrap();
+    assert_eq!(l2.colliders.len(), 1);
+    assert_eq!(l2.contact, vec![false]);
+    let kinscene::scene::Shape::ConvexMesh { vertices, .. } = &l2.colliders[0].shape else {
+        panic!("expected a convex mesh");
+    };
+    let top = vertices.iter().map(|p| p.z).fold(f64::MIN, f64::max);
+    // (The loader reads f32 vertices.)
+    assert!((top - 0.06).abs() < 1e-6, "scale 2 applied: top {top}");
+    // A missing file is a typed error naming the link, the URI and the path.
+    let missing = toy_with(
+        r#"<sphere radius="0.03"/>"#,
+        r#"<mesh filename="pkg/meshes/none.stl"/>"#,
+    );
+    std::fs::write(dir.join("missing.urdf"), &missing).unwrap();
+    match RobotModel::from_urdf_file(&dir.join("missing.urdf")) {
+        Err(RobotError::MeshCollision {
+            link,
+            filename,
+            reason,
+        }) => {
+            assert_eq!(link, "l2");
+            assert_eq!(filename, "pkg/meshes/none.stl");
+            assert!(reason.contains("not found"), "{reason}");
+        }
+        other => panic!("expected MeshCollision, got {other:?}"),
+    }
+    std::fs::remove_dir_all(&dir).ok();
 }

@@ -14,6 +14,16 @@ use kinscene::task::{Problem, TaskSettings};
 
 use crate::{CliError, Verdict};
 
+/// The robot of `plan --robot`: a URDF path or `gen3`, its tool link, mesh packages.
+pub struct RobotArgs<'a> {
+    /// A URDF path, or `gen3` for the shipped robot.
+    pub path: &'a Path,
+    /// The link whose frame is the tool (`None`: `tool_frame`).
+    pub tool_link: Option<&'a str>,
+    /// `package://NAME` roots for the robot's meshes.
+    pub packages: &'a [(String, std::path::PathBuf)],
+}
+
 /// Plans with motion for `robot` (a URDF path, or `gen3`) and writes the document to
 /// `out_path` or `out`.
 ///
@@ -23,7 +33,7 @@ use crate::{CliError, Verdict};
 /// `casadi` features, any use.
 #[allow(clippy::too_many_arguments)]
 pub fn run(
-    robot: &Path,
+    robot: &RobotArgs<'_>,
     goal: &Path,
     model: &SceneModel,
     problem: &Problem,
@@ -41,7 +51,7 @@ pub fn run(
 #[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
 mod imp {
     use super::*;
-    use kinscene::kinematics::robot::RobotModel;
+    use kinscene::kinematics::robot::{RobotImportOptions, RobotModel};
     use kinscene::planner::{
         HierarchicalPlanner, MotionDocument, MotionOutcome, PlannerError, PlannerSettings,
     };
@@ -49,7 +59,7 @@ mod imp {
 
     #[allow(clippy::too_many_arguments)]
     pub fn run(
-        robot: &Path,
+        robot: &RobotArgs<'_>,
         goal: &Path,
         model: &SceneModel,
         problem: &Problem,
@@ -59,11 +69,21 @@ mod imp {
         out_path: Option<&Path>,
         out: &mut dyn Write,
     ) -> Result<Verdict, CliError> {
-        let robot_model = if robot.as_os_str() == "gen3" {
+        let robot_model = if robot.path.as_os_str() == "gen3" {
+            if robot.tool_link.is_some() {
+                return Err(CliError::new(
+                    "--tool-link applies to a robot URDF, not the shipped gen3",
+                ));
+            }
             RobotModel::kinova_gen3_mobile()
         } else {
-            RobotModel::from_urdf_file(robot)
-                .map_err(|e| CliError::new(format!("{}: {e}", robot.display())))?
+            let mut options = RobotImportOptions::default();
+            if let Some(link) = robot.tool_link {
+                options.tool_link = link.to_owned();
+            }
+            options.package_paths = robot.packages.iter().cloned().collect();
+            RobotModel::from_urdf_file_with(robot.path, &options)
+                .map_err(|e| CliError::new(format!("{}: {e}", robot.path.display())))?
         };
         let name = robot_model.name().to_string();
         let planner = HierarchicalPlanner::new(robot_model, {
@@ -76,7 +96,7 @@ mod imp {
                 None => s,
             }
         })
-        .map_err(|e| CliError::new(format!("{}: {e}", robot.display())))?;
+        .map_err(|e| CliError::new(format!("{}: {e}", robot.path.display())))?;
         let termination = Termination::after(budget);
         let result = planner
             .plan(model, problem, &termination)
@@ -115,7 +135,7 @@ mod imp {
 
     #[allow(clippy::too_many_arguments)]
     pub fn run(
-        _robot: &Path,
+        _robot: &RobotArgs<'_>,
         _goal: &Path,
         _model: &SceneModel,
         _problem: &Problem,

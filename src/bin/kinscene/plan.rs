@@ -1,5 +1,6 @@
 //! `kinscene plan --scene S.urdf --goal G.toml [--budget 10s] [--out plan.json]
-//! [--strategy search|random|paper] [--seed N] [--robot URDF|gen3] [--package NAME=PATH ...]`:
+//! [--strategy search|random|paper] [--seed N] [--robot URDF|gen3] [--tool-link LINK]
+//! [--package NAME=PATH ...]`:
 //! plans the order of single-joint changes that reaches a goal ([`kinscene::task::plan`]) and
 //! writes the plan document. With `--robot`, the hierarchical planner refines the order into
 //! motion (see [`crate::motion`]).
@@ -93,6 +94,10 @@ pub struct Args {
     /// and the goal file must give the robot's start pose (`[robot] base = [x, y, yaw]`).
     #[arg(long, value_name = "URDF|gen3")]
     robot: Option<PathBuf>,
+    /// With a robot URDF: the link whose frame is the tool (TCP, +z the approach direction)
+    /// [default: tool_frame]. The `--package` paths also resolve the robot's mesh URIs.
+    #[arg(long, value_name = "LINK", requires = "robot")]
+    tool_link: Option<String>,
 }
 
 /// `--strategy`.
@@ -158,8 +163,13 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<Verdict, CliError> {
         ..TaskSettings::default()
     };
     if let Some(robot) = &args.robot {
+        let robot = crate::motion::RobotArgs {
+            path: robot,
+            tool_link: args.tool_link.as_deref(),
+            packages: &args.input.packages,
+        };
         return crate::motion::run(
-            robot,
+            &robot,
             &args.goal,
             &model,
             &problem,

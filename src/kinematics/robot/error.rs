@@ -121,15 +121,17 @@ pub enum RobotError {
         /// What is wrong.
         reason: String,
     },
-    /// A collision element uses a mesh; robot collision geometry must be primitives.
-    #[error(
-        "robot URDF link {link:?}: mesh collision {filename:?} is not supported (use box, cylinder, sphere or capsule)"
-    )]
+    /// A collision mesh cannot be used: its URI does not resolve (an unknown `package://`
+    /// name, a missing file), the file is unreadable or not STL/OBJ/COLLADA, or it has no
+    /// vertices. The message names the URI and, where resolved, the path.
+    #[error("robot URDF link {link:?}: collision mesh {filename:?}: {reason}")]
     MeshCollision {
         /// The link.
         link: String,
-        /// The mesh file.
+        /// The mesh URI as written.
         filename: String,
+        /// What went wrong (the mesh loader's message).
+        reason: String,
     },
     /// A collision primitive with a non-positive or non-finite dimension.
     #[error("robot URDF link {link:?} collision {index}: {reason}")]

@@ -47,9 +47,13 @@
 //! - **Frames.** `<origin xyz rpy>` is the child frame in the parent frame, with fixed-axis
 //!   roll-pitch-yaw `R = Rz(yaw)·Ry(pitch)·Rx(roll)`; a link's frame is its joint's frame at
 //!   value 0. Non-finite numbers are [`RobotError::NonFinite`].
-//! - **Collision.** Collision elements must be primitives (`box`, `cylinder`, `sphere`,
-//!   `capsule`; positive sizes, [`RobotError::InvalidShape`]); a `mesh` is
-//!   [`RobotError::MeshCollision`]. Visuals, inertials, effort limits, `<dynamics>`,
+//! - **Collision.** Primitives stay exact (`box`, `cylinder`, `sphere`, `capsule`; positive
+//!   sizes, [`RobotError::InvalidShape`]). A `mesh` (STL, OBJ, COLLADA; `scale` applied)
+//!   becomes one convex hull per sub-mesh, loaded as the scene importer loads meshes:
+//!   `package://NAME/rest` through [`RobotImportOptions::package_paths`], relative paths
+//!   against [`RobotImportOptions::base_dir`] (the file's directory for
+//!   [`RobotModel::from_urdf_file_with`]); a mesh that cannot be loaded is
+//!   [`RobotError::MeshCollision`] with the loader's reason. Visuals, inertials, effort limits, `<dynamics>`,
 //!   `<safety_controller>` and anything urdf-rs skips are ignored.
 //! - **Base limits.** URDF has no base description: the base is [`BaseKind::Holonomic`] with
 //!   [`DEFAULT_BASE_VELOCITY`] (0.5 m/s in x and y, 1.0 rad/s in yaw) and

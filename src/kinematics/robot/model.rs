@@ -1,7 +1,8 @@
 //! The immutable [`RobotModel`] and its plain-data pieces.
 
+use std::collections::BTreeMap;
 use std::f64::consts::PI;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use nalgebra::{DVector, Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
@@ -122,7 +123,7 @@ impl ArmJoint {
 pub struct RobotLink {
     /// The URDF link name (the one that owns the merged fixed links).
     pub name: String,
-    /// Collision shapes in the link frame (primitives only).
+    /// Collision shapes in the link frame (primitives, and convex hulls of meshes).
     pub colliders: Vec<Collider>,
     /// One flag per collider: `true` for the gripper's contact geometry (fingers, pads), the
     /// only shapes allowed to touch a grasped part (see [`RobotImportOptions::contact_links`]).
@@ -163,6 +164,12 @@ pub struct RobotImportOptions {
     /// `Some(vec![])` declares a robot without contact geometry: then no shape may touch a
     /// grasped part.
     pub contact_links: Option<Vec<String>>,
+    /// Package roots for mesh URIs: `package://NAME/rest` resolves to
+    /// `package_paths[NAME]/rest`. Default empty.
+    pub package_paths: BTreeMap<String, PathBuf>,
+    /// Directory that relative mesh paths resolve against. `None`: the current directory;
+    /// [`RobotModel::from_urdf_file_with`] uses the file's directory when this is `None`.
+    pub base_dir: Option<PathBuf>,
 }
 
 impl Default for RobotImportOptions {
@@ -170,6 +177,8 @@ impl Default for RobotImportOptions {
         RobotImportOptions {
             tool_link: "tool_frame".to_owned(),
             contact_links: None,
+            package_paths: BTreeMap::new(),
+            base_dir: None,
         }
     }
 }
@@ -221,7 +230,8 @@ impl RobotModel {
     /// [`RobotError::NoMovableJoint`], [`RobotError::BranchingChain`],
     /// [`RobotError::InvalidAxis`], [`RobotError::InvalidLimits`],
     /// [`RobotError::NonPositiveLimit`], [`RobotError::NonFinite`],
-    /// [`RobotError::MeshCollision`], [`RobotError::InvalidShape`]; [`RobotError::Pinocchio`]
+    /// [`RobotError::MeshCollision`] (a mesh that cannot be loaded), [`RobotError::InvalidShape`];
+    /// [`RobotError::Pinocchio`]
     /// if the Pinocchio backend cannot be loaded.
     pub fn from_urdf_str_with(
         text: &str,
@@ -231,17 +241,35 @@ impl RobotModel {
         RobotModel::from_parsed(parsed)
     }
 
-    /// Loads a robot from a URDF file (tool link `tool_frame`).
+    /// Loads a robot from a URDF file (tool link `tool_frame`; relative mesh paths against the
+    /// file's directory).
     ///
     /// # Errors
     /// [`RobotError::Io`] if the file cannot be read, otherwise as
     /// [`RobotModel::from_urdf_str_with`].
     pub fn from_urdf_file(path: &Path) -> Result<RobotModel, RobotError> {
+        RobotModel::from_urdf_file_with(path, &RobotImportOptions::default())
+    }
+
+    /// Loads a robot from a URDF file with the given options; relative mesh paths resolve
+    /// against the file's directory unless `options.base_dir` is set.
+    ///
+    /// # Errors
+    /// [`RobotError::Io`] if the file cannot be read, otherwise as
+    /// [`RobotModel::from_urdf_str_with`].
+    pub fn from_urdf_file_with(
+        path: &Path,
+        options: &RobotImportOptions,
+    ) -> Result<RobotModel, RobotError> {
         let text = std::fs::read_to_string(path).map_err(|e| RobotError::Io {
             path: path.to_path_buf(),
             message: e.to_string(),
         })?;
-        RobotModel::from_urdf_str(&text)
+        let mut options = options.clone();
+        if options.base_dir.is_none() {
+            options.base_dir = path.parent().map(Path::to_path_buf);
+        }
+        RobotModel::from_urdf_str_with(&text, &options)
     }
 
     /// The shipped example robot: an omnidirectional base carrying a Kinova Gen3 7-DoF arm with

@@ -10,7 +10,9 @@ use super::{
     ArmJoint, ArmJointKind, DEFAULT_PRISMATIC_ACCELERATION, DEFAULT_REVOLUTE_ACCELERATION,
     RobotError, RobotImportOptions, RobotLink,
 };
-use crate::scene::{Collider, Shape};
+use crate::scene::urdf::ImportOptions;
+use crate::scene::urdf::mesh::MeshCache;
+use crate::scene::{Collider, MeshSource, Shape};
 
 /// Deepest element nesting accepted: urdf-rs recurses once per level, so absurdly deep input
 /// would overflow the stack (an abort, not an error). A URDF needs 5 levels.
@@ -195,7 +197,13 @@ impl Tree {
                 base: robot.links[base_link].name.clone(),
             });
         }
+        let mesh_options = ImportOptions {
+            package_paths: options.package_paths.clone(),
+            base_dir: options.base_dir.clone(),
+            ..ImportOptions::default()
+        };
         let mut walk = Walk {
+            meshes: MeshCache::new(&mesh_options),
             robot,
             tree: self,
             arm: &arm,
@@ -252,6 +260,8 @@ struct Walk<'a> {
     base_from_arm_root: Isometry3<f64>,
     /// [`RobotImportOptions::contact_links`].
     contact: Option<&'a [String]>,
+    /// Collision meshes, each file loaded once (the scene importer's loader).
+    meshes: MeshCache<'a>,
 }
 
 impl Walk<'_> {
@@ -327,15 +337,72 @@ impl Walk<'_> {
             let pose = origin(&collision.origin, || {
                 format!("link {:?} collision {index} origin", link.name)
             })?;
-            let shape = shape(&link.name, index, &collision.geometry)?;
+            let shapes = match &collision.geometry {
+                Geometry::Mesh { filename, scale } => {
+                    self.mesh(&link.name, index, filename, scale.as_ref())?
+                }
+                primitive => vec![shape(&link.name, index, primitive)?],
+            };
             let contact = owner == self.arm.len() && self.is_contact(&link.name, collision);
             let owner_link = &mut self.links[owner];
-            owner_link
-                .colliders
-                .push(Collider::new(shape, owner_from_link * pose));
-            owner_link.contact.push(contact);
+            for shape in shapes {
+                owner_link
+                    .colliders
+                    .push(Collider::new(shape, owner_from_link * pose));
+                owner_link.contact.push(contact);
+            }
         }
         Ok(())
+    }
+
+    /// The convex hulls of a collision mesh, one per non-empty sub-mesh, as the scene importer
+    /// makes them (`package://` and relative URIs resolved by the options).
+    fn mesh(
+        &mut self,
+        link: &str,
+        index: usize,
+        filename: &str,
+        scale: Option<&urdf_rs::Vec3>,
+    ) -> Result<Vec<Shape>, RobotError> {
+        let failed = |reason: String| RobotError::MeshCollision {
+            link: link.to_owned(),
+            filename: filename.to_owned(),
+            reason,
+        };
+        let scale = scale.map_or(Vector3::repeat(1.0), |s| Vector3::new(s[0], s[1], s[2]));
+        if !scale.iter().all(|c| c.is_finite()) {
+            return Err(RobotError::NonFinite {
+                what: format!("link {link:?} collision {index} mesh scale"),
+            });
+        }
+        let meshes = self
+            .meshes
+            .load(link, filename, &scale)
+            .map_err(|e| failed(e.to_string()))?;
+        if meshes.is_empty() {
+            return Err(failed("the file has no vertices".into()));
+        }
+        let several = meshes.len() > 1;
+        meshes
+            .into_iter()
+            .enumerate()
+            .map(|(i, vertices)| {
+                let shape = Shape::ConvexMesh {
+                    vertices,
+                    source: Some(MeshSource {
+                        uri: filename.to_owned(),
+                        scale,
+                    }),
+                };
+                let what = if several {
+                    format!("sub-mesh {i}")
+                } else {
+                    "mesh".to_owned()
+                };
+                shape.validate(&what).map_err(|e| failed(e.to_string()))?;
+                Ok(shape)
+            })
+            .collect()
     }
 
     /// Whether a collision element of URDF link `link` (owned by the last arm link) is contact
@@ -446,7 +513,7 @@ fn origin(pose: &urdf_rs::Pose, what: impl Fn() -> String) -> Result<Isometry3<f
     ))
 }
 
-/// A collision primitive (meshes are rejected).
+/// A collision primitive (meshes go through `Walk::mesh`).
 fn shape(link: &str, index: usize, geometry: &Geometry) -> Result<Shape, RobotError> {
     let invalid = |reason: String| RobotError::InvalidShape {
         link: link.to_owned(),
@@ -481,6 +548,7 @@ fn shape(link: &str, index: usize, geometry: &Geometry) -> Result<Shape, RobotEr
             return Err(RobotError::MeshCollision {
                 link: link.to_owned(),
                 filename: filename.clone(),
+                reason: "a mesh is not a primitive (meshes are loaded as convex hulls)".into(),
             });
         }
     })

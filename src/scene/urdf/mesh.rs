@@ -15,10 +15,10 @@ use crate::scene::Error;
 const EXTENSIONS: [&str; 3] = ["stl", "obj", "dae"];
 
 /// The vertices (unscaled, metres as stored in the file) of each non-empty sub-mesh.
-pub(super) type SubMeshes = Vec<Vec<Point3<f64>>>;
+pub(crate) type SubMeshes = Vec<Vec<Point3<f64>>>;
 
 /// Loads meshes for one import, each file once.
-pub(super) struct MeshCache<'a> {
+pub(crate) struct MeshCache<'a> {
     options: &'a ImportOptions,
     loaded: HashMap<PathBuf, SubMeshes>,
 }

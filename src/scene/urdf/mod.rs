@@ -150,7 +150,7 @@
 mod collisions;
 mod export;
 mod import;
-mod mesh;
+pub(crate) mod mesh;
 mod numbers;
 mod obj;
 mod options;
