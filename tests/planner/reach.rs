@@ -124,7 +124,7 @@ fn the_gen3_plans_a_kitchen_goal_within_its_reach_and_the_plan_rechecks() {
     // contact rule).
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     let model = kinscene::scene::urdf::read_file(
-        &root.join("examples/scenes/kitchen.urdf"),
+        root.join("examples/scenes/kitchen.urdf"),
         &kinscene::scene::urdf::ImportOptions::default(),
     )
     .unwrap();
