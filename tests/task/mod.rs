@@ -7,4 +7,5 @@ mod brute_force;
 mod cases;
 pub mod generators;
 mod refiner;
+pub mod rooms;
 mod validate;
