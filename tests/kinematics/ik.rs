@@ -1,14 +1,19 @@
 //! Inverse kinematics: FK → IK → FK round trips, position + axis targets, unreachable targets,
-//! joint limits, continuity of `solve_near`, and typed errors for bad input.
+//! joint limits, continuity of `solve_near`, typed errors for bad input; the dense step path
+//! against a hand-derived FK and against the Clarabel-only solver, and the iteration budget's
+//! independence of the machine's load.
 //!
 //! Most tests use an 8-DoF test arm built here with every joint kind the solver handles
 //! differently (limited revolute, revolute with infinite limits, unbounded `(cos, sin)`
-//! revolute, prismatic); the Gen3 tests use the shipped robot.
+//! revolute, prismatic); the Gen3 tests use the shipped robot; the dense-path tests also a
+//! planar 3R arm whose FK is written out here.
 
 use std::f64::consts::PI;
 use std::time::Duration;
 
-use kinscene::kinematics::ik::{IkData, IkError, IkOutcome, IkSettings, IkSolver, IkTarget};
+use kinscene::kinematics::ik::{
+    IkData, IkError, IkOutcome, IkSettings, IkSolver, IkTarget, StepSolver,
+};
 use kinscene::kinematics::pinocchio::{
     self as pin, FrameIndex, JointIndex, JointKind, JointLimits, Model,
 };
@@ -330,6 +335,8 @@ fn budget_bounds_the_solve_time() {
     let settings = IkSettings {
         budget,
         restarts: 1_000_000,
+        // The wall clock alone ends this solve.
+        max_total_iterations: usize::MAX,
         ..IkSettings::default()
     };
     let solver = IkSolver::new(&model, tool, settings).unwrap();
@@ -606,6 +613,13 @@ fn bad_input_gives_typed_errors() {
             },
             "budget",
         ),
+        (
+            IkSettings {
+                max_total_iterations: 0,
+                ..IkSettings::default()
+            },
+            "max_total_iterations",
+        ),
     ];
     for (settings, field) in bad_settings {
         assert!(
@@ -740,4 +754,316 @@ fn gen3_solve_near_keeps_continuous_joints_continuous() {
         q = next;
     }
     assert!(q[6] > PI, "joint 7 ended at {} (wrapped?)", q[6]);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The dense step path, the Clarabel fallback and the iteration budget
+
+/// Link lengths (m) of the planar 3R arm: joints about z at the origin and at the ends of the
+/// first two links, the tool at the end of the third, its +x along the link.
+const PLANAR: [f64; 3] = [0.5, 0.4, 0.3];
+/// Limits of the planar arm's joints (rad): asymmetric, so that random targets and solutions
+/// press against them.
+const PLANAR_LIMITS: [(f64, f64); 3] = [(-2.0, 2.5), (-1.5, 2.6), (-2.2, 1.9)];
+
+fn planar_arm() -> (Model, FrameIndex) {
+    let mut b = pin::ModelBuilder::new();
+    let mut parent = JointIndex::UNIVERSE;
+    let mut offset = 0.0;
+    for (i, &(lo, hi)) in PLANAR_LIMITS.iter().enumerate() {
+        parent = b
+            .add_joint(
+                &format!("p{i}"),
+                parent,
+                Isometry3::translation(offset, 0.0, 0.0),
+                JointKind::Revolute { axis: Vector3::z() },
+                JointLimits::position(lo, hi),
+            )
+            .unwrap();
+        offset = PLANAR[i];
+    }
+    let tool = b
+        .add_frame("tool", parent, Isometry3::translation(offset, 0.0, 0.0))
+        .unwrap();
+    (b.build().unwrap(), tool)
+}
+
+/// The planar arm's tool pose, written out: position `Σ lᵢ (cos φᵢ, sin φᵢ, 0)` with
+/// `φᵢ = q₀ + … + qᵢ`, rotation about z by `φ₂`. Independent of Pinocchio and of the solver.
+fn planar_fk(q: &DVector<f64>) -> Isometry3<f64> {
+    let (mut x, mut y, mut phi) = (0.0, 0.0, 0.0);
+    for i in 0..3 {
+        phi += q[i];
+        x += PLANAR[i] * phi.cos();
+        y += PLANAR[i] * phi.sin();
+    }
+    Isometry3::new(Vector3::new(x, y, 0.0), Vector3::z() * phi)
+}
+
+fn random_planar(rng: &mut ChaCha8Rng) -> DVector<f64> {
+    DVector::from_fn(3, |i, _| {
+        let (lo, hi) = PLANAR_LIMITS[i];
+        rng.random_range(lo..=hi)
+    })
+}
+
+#[test]
+fn dense_path_solutions_check_out_by_a_hand_derived_fk() {
+    // Every target is the written-out FK of a configuration within the limits, a fifth of them
+    // with a joint exactly at a limit. The dense path solves them without Clarabel (the counts
+    // say so), within the limits, and the written-out FK of the answer meets the tolerances.
+    let (model, tool) = planar_arm();
+    let settings = IkSettings {
+        step_solver: StepSolver::Dense,
+        ..IkSettings::default()
+    };
+    let solver = IkSolver::new(&model, tool, settings.clone()).unwrap();
+    let mut data = IkData::new(&solver).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(21);
+    let samples = 200;
+    let (mut successes, mut clarabel_steps) = (0, 0);
+    for k in 0..samples {
+        let mut q_true = random_planar(&mut rng);
+        if k % 5 == 0 {
+            let i = k % 3;
+            q_true[i] = if k % 2 == 0 {
+                PLANAR_LIMITS[i].0
+            } else {
+                PLANAR_LIMITS[i].1
+            };
+        }
+        let target = planar_fk(&q_true);
+        // Pinocchio agrees with the written-out FK (so the two are the same arm).
+        let pinocchio = tool_pose(&model, tool, &q_true);
+        assert!((pinocchio.translation.vector - target.translation.vector).norm() < 1e-12);
+        assert!(pinocchio.rotation.angle_to(&target.rotation) < 1e-12);
+
+        let outcome = solver
+            .solve_with(&mut data, &IkTarget::Pose(target), &model.neutral())
+            .unwrap();
+        clarabel_steps += data.last_solve().clarabel_steps;
+        let Some(q) = converged(outcome) else {
+            continue;
+        };
+        successes += 1;
+        assert_within_limits(&model, &q);
+        let reached = planar_fk(&q);
+        let dp = (reached.translation.vector - target.translation.vector).norm();
+        let dr = reached.rotation.angle_to(&target.rotation);
+        assert!(dp <= settings.position_tolerance, "position error {dp}");
+        assert!(dr <= settings.rotation_tolerance, "rotation error {dr}");
+    }
+    // Non-redundant with limits: a target has at most 2 solutions and one may be outside the
+    // limits, so restarts matter, but every target is reachable.
+    assert_eq!(successes, samples, "{successes}/{samples} converged");
+    assert_eq!(clarabel_steps, 0, "the dense path fell back to Clarabel");
+}
+
+#[test]
+fn dense_and_clarabel_steps_reach_the_same_solutions() {
+    // Both solve each step's QP to its minimiser, so on a non-redundant arm (no null space in
+    // which the two could drift apart) from the same seed, with the same restarts, they reach
+    // the same solution. Not bit for bit: Clarabel's steps are accurate to ~1e-8, so the
+    // descents end one step apart now and then, each somewhere within the tolerances (1e-5 m,
+    // 1e-4 rad) of the target, i.e. ~1e-5 rad apart on this arm (its Jacobian's singular values
+    // are ≳ 0.1 m away from singularities). 1e-3 rad separates that from another IK branch,
+    // which differs by a large fraction of a radian. A budget of 10 s keeps the wall clock
+    // (slow Clarabel steps in an unoptimised build) out of it.
+    let (model, tool) = planar_arm();
+    let settings = IkSettings {
+        budget: Duration::from_secs(10),
+        ..IkSettings::default()
+    };
+    let dense = IkSolver::new(&model, tool, settings.clone()).unwrap();
+    let clarabel = IkSolver::new(
+        &model,
+        tool,
+        IkSettings {
+            step_solver: StepSolver::Clarabel,
+            ..settings
+        },
+    )
+    .unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(22);
+    let mut compared = 0;
+    for _ in 0..40 {
+        let target = IkTarget::Pose(planar_fk(&random_planar(&mut rng)));
+        let a = dense.solve(&target, &model.neutral()).unwrap();
+        let b = clarabel.solve(&target, &model.neutral()).unwrap();
+        match (&a, &b) {
+            (
+                IkOutcome::Converged {
+                    q: qa,
+                    restarts: ra,
+                    ..
+                },
+                IkOutcome::Converged {
+                    q: qb,
+                    restarts: rb,
+                    ..
+                },
+            ) => {
+                assert_eq!(ra, rb, "{a:?} vs {b:?}");
+                assert!((qa - qb).amax() < 1e-3, "{qa} vs {qb}");
+                compared += 1;
+            }
+            _ => panic!("reachable target: {a:?} vs {b:?}"),
+        }
+    }
+    assert_eq!(compared, 40);
+}
+
+#[test]
+fn clarabel_steps_still_hold_active_limits() {
+    // The Clarabel step (the fallback, and every step with StepSolver::Clarabel) on the
+    // targets the dense path is tested on: a 1-DoF arm pressed against its limit stops exactly
+    // there, and test-arm targets from configurations with joints at their limits converge
+    // within the limits.
+    let clarabel = IkSettings {
+        step_solver: StepSolver::Clarabel,
+        restarts: 3,
+        // Clarabel steps are slow in an unoptimised build: keep the wall clock out of it.
+        budget: Duration::from_secs(10),
+        ..IkSettings::default()
+    };
+    let mut b = pin::ModelBuilder::new();
+    let j = b
+        .add_joint(
+            "j",
+            JointIndex::UNIVERSE,
+            Isometry3::identity(),
+            JointKind::Revolute { axis: Vector3::z() },
+            JointLimits::position(-0.5, 0.5),
+        )
+        .unwrap();
+    let tip = b
+        .add_frame("tip", j, Isometry3::translation(1.0, 0.0, 0.0))
+        .unwrap();
+    let one = b.build().unwrap();
+    for step_solver in [StepSolver::Dense, StepSolver::Clarabel] {
+        let solver = IkSolver::new(
+            &one,
+            tip,
+            IkSettings {
+                step_solver,
+                ..clarabel.clone()
+            },
+        )
+        .unwrap();
+        let target = IkTarget::PositionAxis {
+            position: Point3::new(1.0f64.cos(), 1.0f64.sin(), 0.0),
+            axis: Vector3::z_axis(),
+        };
+        let mut data = IkData::new(&solver).unwrap();
+        match solver
+            .solve_with(&mut data, &target, &DVector::from_vec(vec![0.0]))
+            .unwrap()
+        {
+            IkOutcome::NotConverged { best, .. } => {
+                assert!((best[0] - 0.5).abs() < 1e-9, "{step_solver:?}: {}", best[0])
+            }
+            other => panic!("{step_solver:?}: beyond the limit, converged: {other:?}"),
+        }
+        let stats = data.last_solve();
+        if step_solver == StepSolver::Clarabel {
+            assert_eq!(stats.clarabel_steps, stats.steps);
+        }
+    }
+
+    let (model, tool) = test_arm();
+    let solver = IkSolver::new(&model, tool, clarabel).unwrap();
+    let (lower, upper) = model.position_bounds();
+    let mut rng = ChaCha8Rng::seed_from_u64(23);
+    let mut successes = 0;
+    for k in 0..20 {
+        let mut q_true = random_q(&model, &mut rng);
+        // Joints j1 (q[2]) and j3 (q[4]) at a limit each.
+        q_true[2] = if k % 2 == 0 { lower[2] } else { upper[2] };
+        q_true[4] = if k % 3 == 0 { lower[4] } else { upper[4] };
+        let target = IkTarget::Pose(tool_pose(&model, tool, &q_true));
+        match solver.solve(&target, &model.neutral()).unwrap() {
+            IkOutcome::Converged { q, .. } => {
+                assert_within_limits(&model, &q);
+                let (ep, er) = target.errors(&tool_pose(&model, tool, &q));
+                assert!(ep <= 1e-5 && er <= 1e-4);
+                successes += 1;
+            }
+            IkOutcome::NotConverged { best, .. } => assert_within_limits(&model, &best),
+        }
+    }
+    assert!(successes >= 19, "{successes}/20 converged");
+}
+
+/// A batch of solves on the test arm whose results the iteration budget decides: hard and
+/// unreachable targets, many restarts, at most 300 steps per solve.
+fn budgeted_batch(budget: Duration) -> Vec<(IkOutcome, usize)> {
+    let (model, tool) = test_arm();
+    let settings = IkSettings {
+        restarts: usize::MAX,
+        max_total_iterations: 300,
+        budget,
+        // Tight tolerances: more steps per attempt, so the budget binds more often.
+        position_tolerance: 1e-9,
+        rotation_tolerance: 1e-9,
+        ..IkSettings::default()
+    };
+    let solver = IkSolver::new(&model, tool, settings).unwrap();
+    let mut data = IkData::new(&solver).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(24);
+    let mut targets: Vec<IkTarget> = (0..12)
+        .map(|_| IkTarget::Pose(tool_pose(&model, tool, &random_q(&model, &mut rng))))
+        .collect();
+    targets.push(IkTarget::Pose(Isometry3::translation(
+        REACH + 1.0,
+        0.0,
+        0.0,
+    )));
+    targets.push(IkTarget::PositionAxis {
+        position: Point3::new(0.0, REACH + 0.5, 0.2),
+        axis: Vector3::x_axis(),
+    });
+    targets
+        .iter()
+        .map(|t| {
+            let outcome = solver.solve_with(&mut data, t, &model.neutral()).unwrap();
+            (outcome, data.last_solve().steps)
+        })
+        .collect()
+}
+
+#[test]
+fn the_iteration_budget_makes_solves_independent_of_the_machine_load() {
+    // The same batch with an hour of wall-clock budget on an idle core, and with one second
+    // while two busy threads compete for the cores: equal outcomes, bit for bit (the wall
+    // clock never ends a solve: 300 steps take well under a second even unoptimised and
+    // shared). The unreachable targets end on the iteration budget after exactly 300 steps.
+    let idle = budgeted_batch(Duration::from_secs(3600));
+    let stop = std::sync::atomic::AtomicBool::new(false);
+    let loaded = std::thread::scope(|s| {
+        for _ in 0..2 {
+            s.spawn(|| {
+                let mut x = 0u64;
+                while !stop.load(std::sync::atomic::Ordering::Relaxed) {
+                    x = std::hint::black_box(x.wrapping_mul(6364136223846793005).wrapping_add(1));
+                }
+            });
+        }
+        let batch = budgeted_batch(Duration::from_secs(1));
+        stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        batch
+    });
+    assert_eq!(idle, loaded);
+    let mut budget_ends = 0;
+    for (outcome, steps) in &idle {
+        assert!(*steps <= 300, "{steps} steps");
+        if let IkOutcome::NotConverged { reason, .. } = outcome {
+            assert!(reason.starts_with("iteration budget"), "{reason}");
+            assert_eq!(*steps, 300);
+            budget_ends += 1;
+        }
+    }
+    assert!(
+        budget_ends >= 2,
+        "the unreachable targets end on the iteration budget"
+    );
 }

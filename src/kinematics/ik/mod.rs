@@ -1,4 +1,5 @@
-//! Inverse kinematics: Pinocchio frame Jacobians, one Clarabel QP per step.
+//! Inverse kinematics: Pinocchio frame Jacobians, one box-constrained QP per step (a dense
+//! active-set method, Clarabel as its fallback).
 //!
 //! [`IkSolver`] places one frame of a [`kinscene_pinocchio::Model`] (for a robot, its tool
 //! frame) at an [`IkTarget`]: a full pose, or a position plus an approach axis with the roll
@@ -34,13 +35,15 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod dense;
 mod error;
 mod qp;
 mod settings;
 mod solver;
+mod step;
 mod target;
 
 pub use error::IkError;
-pub use settings::IkSettings;
-pub use solver::{IkData, IkOutcome, IkSolver};
+pub use settings::{IkSettings, StepSolver};
+pub use solver::{IkData, IkOutcome, IkSolver, IkStats};
 pub use target::IkTarget;

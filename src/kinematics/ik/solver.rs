@@ -1,35 +1,18 @@
-//! The solver: Levenberg–Marquardt steps, each one a Clarabel QP, with random restarts.
+//! The solver: Levenberg–Marquardt steps, each one a box-constrained QP, with random restarts.
 
 use std::f64::consts::PI;
 use std::time::Instant;
 
 use kinscene_pinocchio as pin;
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DVector;
 use pin::{FrameIndex, JointKind, Model, ReferenceFrame};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use super::qp::StepQp;
-use super::target::{Task, task};
+use super::step::{StepQpData, StepSolvers};
+use super::target::Task;
 use super::{IkError, IkSettings, IkTarget};
 use crate::kinematics::robot::RobotModel;
-
-/// Weight μ of the pull towards the seed in [`IkSolver::solve_near`]: the cost
-/// `½ μ ‖N (q + dq − seed)‖²`, N the projector onto the null space of the task Jacobian, so
-/// the pull moves only the redundant (self-motion) directions and, with no joint limit active,
-/// never biases the pose reached. Each step's null-space component is `−μ/(λ+μ) N (q − seed)`:
-/// the pull dominates once λ (which tracks ‖e‖²) has dropped below μ.
-const NEAR_WEIGHT: f64 = 1e-2;
-/// The pull fades out linearly once the error norm ‖e‖ (m, rad) is below this: with a joint
-/// pressed against a limit, the projected pull can trade task error for seed distance (the
-/// projector ignores the constraint), and a pull that vanishes with the error keeps the
-/// descent converging to the target.
-const NEAR_FADE: f64 = 1e-3;
-
-/// Weight of the error in the Levenberg–Marquardt damping `λ = damping + ERROR_DAMPING ‖e‖²`.
-/// Sugihara (2011) uses 1 with unit weights; 0.1 halves the mean number of steps on the Gen3
-/// (9.6 against 18 over 10 000 random targets) at the same success rate.
-const ERROR_DAMPING: f64 = 0.1;
 
 /// An attempt that has not reduced its error by this factor over the last
 /// [`STALL_WINDOW`] steps is stuck in a local minimum (or crawling along a limit) and is
@@ -45,7 +28,7 @@ pub enum IkOutcome {
     Converged {
         /// The configuration.
         q: DVector<f64>,
-        /// QP steps over all attempts.
+        /// Steps over all attempts.
         iterations: usize,
         /// Random restarts used (0: converged from the seed).
         restarts: usize,
@@ -58,7 +41,9 @@ pub enum IkOutcome {
         position_error: f64,
         /// Its rotation error (rad).
         rotation_error: f64,
-        /// Why the solver stopped (budget, or iterations and restarts exhausted).
+        /// Why the solver stopped: the iteration budget
+        /// ([`IkSettings::max_total_iterations`]), the wall-clock budget, or every attempt
+        /// stalled or ran out of steps.
         reason: String,
     },
 }
@@ -92,7 +77,7 @@ enum Coordinate {
 /// Inverse kinematics of one frame of a Pinocchio model.
 ///
 /// Each iteration linearises the task at q with Pinocchio (frame placement and its
-/// `LOCAL_WORLD_ALIGNED` Jacobian) and solves, with Clarabel, the QP
+/// `LOCAL_WORLD_ALIGNED` Jacobian) and solves the QP
 ///
 /// ```text
 /// min_dq  ½‖J dq − e‖² + ½ λ‖dq‖²   (+ ½ μ‖N (q + dq − seed)‖² in solve_near)
@@ -102,7 +87,18 @@ enum Coordinate {
 /// with `e` the task error of [`IkTarget`] (metres and radians, equal weights), Levenberg–
 /// Marquardt damping `λ = damping + 0.1 ‖e‖²` (after Sugihara 2011), N the projector onto the
 /// null space of J and μ = 1e-2, faded out linearly once ‖e‖ < 1e-3 so that the pull never
-/// holds the solution away from the target. Then `q ← q ⊕ dq` (Pinocchio's `integrate`).
+/// holds the solution away from the target. Then `q ← q ⊕ dq` (Pinocchio's `integrate`). dq
+/// ranges over the velocity coordinates of the joints that move the frame (the others have
+/// zero Jacobian columns and no pull, so their step is 0 and they keep the seed's values).
+///
+/// **The step's solver** ([`IkSettings::step_solver`]). Clarabel's interior-point method by
+/// default, or, with [`StepSolver::Dense`](super::StepSolver::Dense), a dense active-set method
+/// on the bounds: with no bound active the minimiser is the damped-least-squares step
+/// `(JᵀJ + λI)⁻¹ Jᵀe`, one Cholesky factorisation of an n × n matrix (n ≤ ~10, well under a
+/// microsecond); a bound that the step would cross is fixed there and the rest re-solved, and
+/// the result is taken only with its KKT certificate (the QP is strictly convex, so that makes
+/// it the minimiser). When no certificate comes within a few rounds the step falls back to
+/// Clarabel (20–36 µs). Either way the step is the QP's minimiser.
 ///
 /// **Joint limits.** Revolute and prismatic coordinates stay within the model's position
 /// limits (the QP's constraints, then a clamp that removes the interior-point solver's ~1e-9
@@ -112,12 +108,14 @@ enum Coordinate {
 /// the seed, so a trajectory solved with [`IkSolver::solve_near`] never jumps by 2π); the
 /// latter are angles on the circle by construction.
 ///
-/// **Restarts.** [`IkSolver::solve`] starts from the seed, then from up to
+/// **Restarts and budgets.** [`IkSolver::solve`] starts from the seed, then from up to
 /// [`IkSettings::restarts`] configurations drawn uniformly within the limits (ChaCha8 seeded
 /// with [`IkSettings::seed`]; unlimited angles uniformly within π of the seed's value;
 /// unlimited prismatic and planar translations keep the seed's value). An attempt ends after
 /// [`IkSettings::max_iterations`] steps or when its error stalls (less than 10 % reduction over
-/// 10 steps). The wall-clock [`IkSettings::budget`] bounds the whole solve.
+/// 10 steps). [`IkSettings::max_total_iterations`] bounds the steps of the whole solve, so a
+/// solve is a deterministic function of (target, seed, settings) unless the wall-clock
+/// [`IkSettings::budget`], a safety net, runs out first.
 ///
 /// `IkSolver` is `Send + Sync`: it owns its own copy of the model and no mutable state.
 /// Per-call scratch lives in an [`IkData`]; [`IkSolver::solve`] makes one per call,
@@ -130,14 +128,25 @@ pub struct IkSolver {
     coordinates: Vec<Coordinate>,
     /// Joints (index into `model.joints()`) on the chain from the root to the frame.
     support: Vec<usize>,
+    /// Velocity coordinates of those joints, ascending: the step's variables.
+    support_v: Vec<usize>,
+    /// `q` index of each step variable, when all are revolute or prismatic coordinates
+    /// (`q ⊕ dq = q + dq` there, see `kinscene_pinocchio::integrate`); `None` when one is a
+    /// `(cos, sin)` pair or planar block, which Pinocchio's `integrate` moves.
+    step_q: Option<Vec<usize>>,
 }
 
-/// Scratch for [`IkSolver::solve_with`]: Pinocchio data and the Clarabel workspace. Make one
-/// per thread with [`IkData::new`].
+/// Scratch for [`IkSolver::solve_with`]: Pinocchio data and the step solvers' workspaces, and
+/// the counts of the last solve ([`IkData::last_solve`]). Make one per thread with
+/// [`IkData::new`].
 #[derive(Debug)]
 pub struct IkData {
     data: pin::Data,
-    qp: StepQp,
+    steps: StepSolvers,
+    qp: StepQpData,
+    /// The step over the step variables.
+    dq: DVector<f64>,
+    last: IkStats,
 }
 
 impl IkData {
@@ -146,11 +155,33 @@ impl IkData {
     /// # Errors
     /// [`IkError::Pinocchio`] if the backend cannot allocate its data.
     pub fn new(solver: &IkSolver) -> Result<IkData, IkError> {
+        let n = solver.support_v.len();
         Ok(IkData {
             data: pin::Data::new(&solver.model)?,
-            qp: StepQp::new(solver.model.nv()),
+            steps: StepSolvers::new(n),
+            qp: StepQpData::new(n),
+            dq: DVector::zeros(n),
+            last: IkStats::default(),
         })
     }
+
+    /// What the last solve with this scratch did (zeros before the first, and after a solve
+    /// that returned `Err` before its first step).
+    pub fn last_solve(&self) -> IkStats {
+        self.last
+    }
+}
+
+/// Counts of one solve.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct IkStats {
+    /// Steps over all attempts (what [`IkSettings::max_total_iterations`] bounds).
+    pub steps: usize,
+    /// Of those, steps whose QP the dense method could not certify, solved by Clarabel (all of
+    /// them with [`crate::kinematics::ik::StepSolver::Clarabel`]).
+    pub clarabel_steps: usize,
+    /// Attempts started: 1 for the seed plus the random restarts.
+    pub attempts: usize,
 }
 
 /// The best configuration seen so far and its errors.
@@ -178,6 +209,7 @@ enum Attempt {
     Converged(DVector<f64>),
     Stalled,
     OutOfIterations,
+    OutOfIterationBudget,
     OutOfTime,
 }
 
@@ -233,12 +265,28 @@ impl IkSolver {
                 }
             }
         }
+        let support_v: Vec<usize> = support
+            .iter()
+            .flat_map(|&j| {
+                let joint = &model.joints()[j];
+                joint.idx_v..joint.idx_v + joint.nv()
+            })
+            .collect();
+        let step_q = support_v
+            .iter()
+            .map(|&i| match coordinates[i] {
+                Coordinate::Scalar { idx_q, .. } | Coordinate::Angle { idx_q } => Some(idx_q),
+                Coordinate::Manifold => None,
+            })
+            .collect();
         Ok(IkSolver {
             model: model.to_builder().build()?,
             frame,
             settings,
             coordinates,
             support,
+            support_v,
+            step_q,
         })
     }
 
@@ -329,21 +377,16 @@ impl IkSolver {
     ) -> Result<IkOutcome, IkError> {
         // No deadline when the budget is too large to represent (e.g. `Duration::MAX`).
         let deadline = Instant::now().checked_add(self.settings.budget);
-        target.validate()?;
-        if seed.len() != self.model.nq() {
-            return Err(IkError::DimensionMismatch {
-                what: "seed",
-                expected: self.model.nq(),
-                got: seed.len(),
-            });
-        }
-        if !seed.iter().all(|c| c.is_finite()) {
-            return Err(IkError::NonFinite { what: "seed" });
-        }
-        let mut seed = seed.clone();
-        self.clamp(&mut seed, None);
-        pin::check_configuration(&self.model, &seed)?;
-
+        data.last = IkStats::default();
+        data.steps.reset();
+        let seed = self.checked_seed(target, seed)?;
+        let problem = Problem {
+            target,
+            seed: &seed,
+            near,
+            deadline,
+        };
+        let mut task = Task::new(target, self.support_v.len());
         let mut rng = ChaCha8Rng::seed_from_u64(self.settings.seed);
         let mut best: Option<Best> = None;
         let mut iterations = 0;
@@ -355,19 +398,25 @@ impl IkSolver {
             } else {
                 self.random_configuration(&seed, &mut rng)
             };
-            let problem = Problem {
-                target,
-                seed: &seed,
-                near,
-                deadline,
+            let ended = self.attempt(data, &problem, &mut task, q0, &mut iterations, &mut best);
+            data.last = IkStats {
+                steps: iterations,
+                clarabel_steps: data.steps.clarabel_steps,
+                attempts: attempt + 1,
             };
-            match self.attempt(data, &problem, q0, &mut iterations, &mut best)? {
+            match ended? {
                 Attempt::Converged(q) => {
                     return Ok(IkOutcome::Converged {
                         q,
                         iterations,
                         restarts: attempt,
                     });
+                }
+                Attempt::OutOfIterationBudget => {
+                    reason = format!(
+                        "iteration budget of {iterations} steps exhausted after {attempt} restarts"
+                    );
+                    break;
                 }
                 Attempt::OutOfTime => {
                     reason = format!(
@@ -393,50 +442,64 @@ impl IkSolver {
         })
     }
 
+    /// The seed checked against the model and clamped into the limits, after checking the
+    /// target.
+    fn checked_seed(
+        &self,
+        target: &IkTarget,
+        seed: &DVector<f64>,
+    ) -> Result<DVector<f64>, IkError> {
+        target.validate()?;
+        if seed.len() != self.model.nq() {
+            return Err(IkError::DimensionMismatch {
+                what: "seed",
+                expected: self.model.nq(),
+                got: seed.len(),
+            });
+        }
+        if !seed.iter().all(|c| c.is_finite()) {
+            return Err(IkError::NonFinite { what: "seed" });
+        }
+        let mut seed = seed.clone();
+        self.clamp(&mut seed, None);
+        pin::check_configuration(&self.model, &seed)?;
+        Ok(seed)
+    }
+
     /// One local descent from `q`.
     fn attempt(
         &self,
         data: &mut IkData,
         problem: &Problem<'_>,
+        task: &mut Task,
         mut q: DVector<f64>,
         iterations: &mut usize,
         best: &mut Option<Best>,
     ) -> Result<Attempt, IkError> {
-        let Problem {
-            target,
-            seed,
-            near,
-            deadline,
-        } = *problem;
-        let nv = self.model.nv();
         let mut history: Vec<f64> = Vec::with_capacity(self.settings.max_iterations + 1);
-        let mut lower = DVector::zeros(nv);
-        let mut upper = DVector::zeros(nv);
         for step in 0..=self.settings.max_iterations {
-            let Task {
-                residual,
-                jacobian,
-                position_error,
-                rotation_error,
-            } = self.task(data, target, &q)?;
-            if position_error <= self.settings.position_tolerance
-                && rotation_error <= self.settings.rotation_tolerance
+            self.update_task(data, problem.target, &q, task)?;
+            if task.position_error <= self.settings.position_tolerance
+                && task.rotation_error <= self.settings.rotation_tolerance
             {
                 return Ok(Attempt::Converged(q));
             }
-            let score = residual.norm_squared();
+            let score = task.residual.norm_squared();
             if best.as_ref().is_none_or(|b| score < b.score) {
                 *best = Some(Best {
                     q: q.clone(),
                     score,
-                    position_error,
-                    rotation_error,
+                    position_error: task.position_error,
+                    rotation_error: task.rotation_error,
                 });
             }
             if step == self.settings.max_iterations {
                 return Ok(Attempt::OutOfIterations);
             }
-            if deadline.is_some_and(|d| Instant::now() >= d) {
+            if *iterations >= self.settings.max_total_iterations {
+                return Ok(Attempt::OutOfIterationBudget);
+            }
+            if problem.deadline.is_some_and(|d| Instant::now() >= d) {
                 return Ok(Attempt::OutOfTime);
             }
             history.push(score);
@@ -445,36 +508,22 @@ impl IkSolver {
             {
                 return Ok(Attempt::Stalled);
             }
-
-            let lambda = self.settings.damping + ERROR_DAMPING * score;
-            let jt = jacobian.transpose();
-            let mut h = &jt * &jacobian;
-            for i in 0..nv {
-                h[(i, i)] += lambda;
-            }
-            let mut g = -(&jt * &residual);
-            if near {
-                let projector = null_space_projector(&jacobian);
-                let offset = pin::difference(&self.model, seed, &q)?;
-                let weight = NEAR_WEIGHT * (score.sqrt() / NEAR_FADE).min(1.0);
-                h += &projector * weight;
-                g += &projector * offset * weight;
-            }
-            self.step_bounds(&q, &mut lower, &mut upper);
-            let dq = data.qp.solve(&h, &g, &lower, &upper)?;
+            self.step(data, problem, &q, task)?;
             *iterations += 1;
-            q = pin::integrate(&self.model, &q, &dq)?;
-            self.clamp(&mut q, Some(seed));
+            self.integrate(&mut q, &data.dq)?;
+            self.clamp(&mut q, Some(problem.seed));
         }
         unreachable!("the loop returns at step == max_iterations")
     }
 
-    fn task(
+    /// `task` at q, its Jacobian restricted to the step's variables.
+    fn update_task(
         &self,
         data: &mut IkData,
         target: &IkTarget,
         q: &DVector<f64>,
-    ) -> Result<Task, IkError> {
+        task: &mut Task,
+    ) -> Result<(), IkError> {
         pin::forward_kinematics(&self.model, &mut data.data, q)?;
         let pose = pin::frame_placement(&self.model, &data.data, self.frame)?;
         let jacobian = pin::frame_jacobian(
@@ -484,14 +533,56 @@ impl IkSolver {
             self.frame,
             ReferenceFrame::LocalWorldAligned,
         )?;
-        Ok(task(target, &pose, &jacobian))
+        task.update(target, &pose, &jacobian, &self.support_v);
+        Ok(())
     }
 
-    /// `lower ≤ dq ≤ upper`: the joint limits relative to q, intersected with ±max_step.
-    fn step_bounds(&self, q: &DVector<f64>, lower: &mut DVector<f64>, upper: &mut DVector<f64>) {
+    /// The step at q into `data.dq` (over the step variables): the minimiser of the step QP
+    /// (see [`IkSolver`]).
+    fn step(
+        &self,
+        data: &mut IkData,
+        problem: &Problem<'_>,
+        q: &DVector<f64>,
+        task: &Task,
+    ) -> Result<(), IkError> {
+        let offset = if problem.near {
+            let offset = pin::difference(&self.model, problem.seed, q)?;
+            Some(offset.select_rows(&self.support_v))
+        } else {
+            None
+        };
+        data.qp
+            .levenberg_marquardt(task, self.settings.damping, offset.as_ref());
+        self.step_bounds(q, &mut data.qp);
+        data.steps
+            .solve(self.settings.step_solver, &data.qp, &mut data.dq)
+    }
+
+    /// `q ← q ⊕ dq` for a step `dq` over the step variables: `q + dq` on revolute and
+    /// prismatic coordinates, Pinocchio's `integrate` when the chain has a `(cos, sin)` pair
+    /// or a planar joint.
+    fn integrate(&self, q: &mut DVector<f64>, dq: &DVector<f64>) -> Result<(), IkError> {
+        if let Some(step_q) = &self.step_q {
+            for (k, &i) in step_q.iter().enumerate() {
+                q[i] += dq[k];
+            }
+            return Ok(());
+        }
+        let mut v = DVector::zeros(self.model.nv());
+        for (k, &i) in self.support_v.iter().enumerate() {
+            v[i] = dq[k];
+        }
+        *q = pin::integrate(&self.model, q, &v)?;
+        Ok(())
+    }
+
+    /// `qp.lower ≤ dq ≤ qp.upper`: the joint limits relative to q, intersected with
+    /// ±max_step, for the step's variables.
+    fn step_bounds(&self, q: &DVector<f64>, qp: &mut StepQpData) {
         let max_step = self.settings.max_step;
-        for (i, c) in self.coordinates.iter().enumerate() {
-            let (lo, hi) = match *c {
+        for (k, &i) in self.support_v.iter().enumerate() {
+            let (lo, hi) = match self.coordinates[i] {
                 Coordinate::Scalar {
                     idx_q,
                     lower,
@@ -503,8 +594,8 @@ impl IkSolver {
                 Coordinate::Angle { .. } | Coordinate::Manifold => (-max_step, max_step),
             };
             // q is within its limits (clamped), so lo ≤ 0 ≤ hi; max/min keep that exact.
-            lower[i] = lo.min(0.0);
-            upper[i] = hi.max(0.0);
+            qp.lower[k] = lo.min(0.0);
+            qp.upper[k] = hi.max(0.0);
         }
     }
 
@@ -573,23 +664,6 @@ impl IkSolver {
         }
         q
     }
-}
-
-/// `I − J⁺J`, the orthogonal projector onto the null space of `jacobian` (singular values
-/// below 1e-9 × the largest count as zero).
-fn null_space_projector(jacobian: &DMatrix<f64>) -> DMatrix<f64> {
-    let n = jacobian.ncols();
-    let svd = jacobian.clone().svd(false, true);
-    let v_t = svd.v_t.expect("requested");
-    let threshold = 1e-9 * svd.singular_values.max();
-    let mut projector = DMatrix::identity(n, n);
-    for (k, sigma) in svd.singular_values.iter().enumerate() {
-        if *sigma > threshold {
-            let row = v_t.row(k);
-            projector -= row.transpose() * row;
-        }
-    }
-    projector
 }
 
 /// `angle` wrapped into [−π, π).

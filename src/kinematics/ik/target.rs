@@ -92,7 +92,7 @@ impl IkTarget {
     }
 }
 
-/// The residual `e` (m, rad) and task Jacobian `J` (rows × nv) of one step: the step QP
+/// The residual `e` (m, rad) and task Jacobian `J` (rows × n) of one step: the step QP
 /// minimises `½‖J dq − e‖² + ...`.
 #[derive(Debug)]
 pub(crate) struct Task {
@@ -102,57 +102,91 @@ pub(crate) struct Task {
     pub rotation_error: f64,
 }
 
-/// The task at tool pose `root_from_tool`, whose frame Jacobian (6 × nv, Pinocchio's
-/// `LOCAL_WORLD_ALIGNED`: tool-origin velocity and angular velocity, both in root axes) is
-/// `jacobian`.
-///
-/// - Pose: `e = [p* − p; log(R* Rᵀ)]`, the rotation error as a rotation vector in root axes,
-///   so that a rotation by `ω = e_rot` takes R to R* (first order, matching the angular rows).
-/// - Position + axis: `e = [p* − p; θ; 0]` with rows `[J_v; u₁ᵀ J_ω; u₂ᵀ J_ω]`, where z is the
-///   current tool +z, θ the angle from z to the target axis a, `u₁ = (z × a)/‖z × a‖` (any unit
-///   vector ⊥ z when z ∥ a) and `u₂ = z × u₁`. Rotating by `θ u₁` takes z onto a; the two rows
-///   constrain the angular velocity orthogonal to z only, so the roll about the tool axis is
-///   free. This is the 5-D error "position and the components of z × a orthogonal to z".
-pub(crate) fn task(
-    target: &IkTarget,
-    root_from_tool: &Isometry3<f64>,
-    jacobian: &DMatrix<f64>,
-) -> Task {
-    let nv = jacobian.ncols();
-    let p = root_from_tool.translation.vector;
-    let mut residual = DVector::zeros(target.rows());
-    let mut rows = DMatrix::zeros(target.rows(), nv);
-    rows.rows_mut(0, 3).copy_from(&jacobian.rows(0, 3));
-    let (position_error, rotation_error) = match target {
-        IkTarget::Pose(pose) => {
-            let dp = pose.translation.vector - p;
-            let rotation = (pose.rotation * root_from_tool.rotation.inverse()).scaled_axis();
-            residual.rows_mut(0, 3).copy_from(&dp);
-            residual.rows_mut(3, 3).copy_from(&rotation);
-            rows.rows_mut(3, 3).copy_from(&jacobian.rows(3, 3));
-            (dp.norm(), rotation.norm())
+impl Task {
+    /// A task of `target.rows()` rows over `n` velocity coordinates (zero until updated).
+    pub fn new(target: &IkTarget, n: usize) -> Task {
+        Task {
+            residual: DVector::zeros(target.rows()),
+            jacobian: DMatrix::zeros(target.rows(), n),
+            position_error: 0.0,
+            rotation_error: 0.0,
         }
-        IkTarget::PositionAxis { position, axis } => {
-            let dp = position.coords - p;
-            let z = root_from_tool.rotation * Vector3::z();
-            let theta = angle_between(&z, axis);
-            let u1 = Unit::try_new(z.cross(axis), 1e-12)
-                .unwrap_or_else(|| perpendicular(&z))
-                .into_inner();
-            let u2 = z.cross(&u1);
-            residual.rows_mut(0, 3).copy_from(&dp);
-            residual[3] = theta;
-            let angular = jacobian.rows(3, 3);
-            rows.row_mut(3).copy_from(&(u1.transpose() * angular));
-            rows.row_mut(4).copy_from(&(u2.transpose() * angular));
-            (dp.norm(), theta)
+    }
+
+    /// The task at tool pose `root_from_tool`, whose frame Jacobian (6 × nv, Pinocchio's
+    /// `LOCAL_WORLD_ALIGNED`: tool-origin velocity and angular velocity, both in root axes)
+    /// is `jacobian`, over its columns `columns` (the task's n coordinates, in order).
+    ///
+    /// - Pose: `e = [p* − p; log(R* Rᵀ)]`, the rotation error as a rotation vector in root
+    ///   axes, so that a rotation by `ω = e_rot` takes R to R* (first order, matching the
+    ///   angular rows).
+    /// - Position + axis: `e = [p* − p; θ; 0]` with rows `[J_v; u₁ᵀ J_ω; u₂ᵀ J_ω]`, where z is
+    ///   the current tool +z, θ the angle from z to the target axis a, `u₁ = (z × a)/‖z × a‖`
+    ///   (any unit vector ⊥ z when z ∥ a) and `u₂ = z × u₁`. Rotating by `θ u₁` takes z onto
+    ///   a; the two rows constrain the angular velocity orthogonal to z only, so the roll
+    ///   about the tool axis is free. This is the 5-D error "position and the components of
+    ///   z × a orthogonal to z".
+    ///
+    /// # Panics
+    /// If the task was made for a target with another row count or for another n.
+    pub fn update(
+        &mut self,
+        target: &IkTarget,
+        root_from_tool: &Isometry3<f64>,
+        jacobian: &DMatrix<f64>,
+        columns: &[usize],
+    ) {
+        assert_eq!(
+            self.residual.len(),
+            target.rows(),
+            "task made for another target"
+        );
+        assert_eq!(
+            self.jacobian.ncols(),
+            columns.len(),
+            "task made for another n"
+        );
+        let p = root_from_tool.translation.vector;
+        for (k, &c) in columns.iter().enumerate() {
+            for r in 0..3 {
+                self.jacobian[(r, k)] = jacobian[(r, c)];
+            }
         }
-    };
-    Task {
-        residual,
-        jacobian: rows,
-        position_error,
-        rotation_error,
+        match target {
+            IkTarget::Pose(pose) => {
+                let dp = pose.translation.vector - p;
+                let rotation = (pose.rotation * root_from_tool.rotation.inverse()).scaled_axis();
+                self.residual.rows_mut(0, 3).copy_from(&dp);
+                self.residual.rows_mut(3, 3).copy_from(&rotation);
+                for (k, &c) in columns.iter().enumerate() {
+                    for r in 3..6 {
+                        self.jacobian[(r, k)] = jacobian[(r, c)];
+                    }
+                }
+                self.position_error = dp.norm();
+                self.rotation_error = rotation.norm();
+            }
+            IkTarget::PositionAxis { position, axis } => {
+                let dp = position.coords - p;
+                let z = root_from_tool.rotation * Vector3::z();
+                let theta = angle_between(&z, axis);
+                let u1 = Unit::try_new(z.cross(axis), 1e-12)
+                    .unwrap_or_else(|| perpendicular(&z))
+                    .into_inner();
+                let u2 = z.cross(&u1);
+                self.residual.rows_mut(0, 3).copy_from(&dp);
+                self.residual[3] = theta;
+                self.residual[4] = 0.0;
+                for (k, &c) in columns.iter().enumerate() {
+                    let angular =
+                        Vector3::new(jacobian[(3, c)], jacobian[(4, c)], jacobian[(5, c)]);
+                    self.jacobian[(3, k)] = u1.dot(&angular);
+                    self.jacobian[(4, k)] = u2.dot(&angular);
+                }
+                self.position_error = dp.norm();
+                self.rotation_error = theta;
+            }
+        }
     }
 }
 
