@@ -829,3 +829,56 @@ fn the_tool_link_of_a_robot_urdf_is_named_on_the_command_line() {
         String::from_utf8_lossy(&output.stderr)
     );
 }
+
+/// `--srdf`: the shipped Gen3 given as its URDF and SRDF files plans the counter drawer as
+/// `--robot gen3` does; an SRDF with an element lacking an attribute is bad input naming it,
+/// and the flag means nothing with the shipped robot.
+#[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
+#[test]
+fn plan_with_a_robot_srdf() {
+    let scene = scratch_file("counter_srdf.urdf", COUNTER_URDF);
+    let goal = scratch_file(
+        "counter_goal_srdf.toml",
+        "[goal]\ndrawer_slide = { min = 0.25 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
+    );
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let urdf = root.join("robots/kinova_gen3_mobile.urdf");
+    let run = |robot: &str, srdf: &str| {
+        kinscene(&[
+            "plan",
+            "--scene",
+            arg(&scene),
+            "--goal",
+            arg(&goal),
+            "--robot",
+            robot,
+            "--srdf",
+            srdf,
+            "--budget",
+            "60s",
+            "--seed",
+            "1",
+        ])
+    };
+    let bad = scratch_file(
+        "bad.srdf",
+        "<robot name=\"r\"><disable_collisions link1=\"a\"/></robot>",
+    );
+    let line = assert_bad_input(&run(arg(&urdf), arg(&bad)));
+    assert!(
+        line.contains("disable_collisions") && line.contains("link2"),
+        "{line}"
+    );
+    let srdf = root.join("robots/kinova_gen3_mobile.srdf");
+    let line = assert_bad_input(&run("gen3", arg(&srdf)));
+    assert!(line.contains("--srdf"), "{line}");
+    let output = run(arg(&urdf), arg(&srdf));
+    assert_eq!(
+        output.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let doc: Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(doc["status"], "solved");
+}

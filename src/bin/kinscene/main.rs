@@ -4,7 +4,7 @@
 //! kinscene inspect  --scene S.urdf [--package NAME=PATH ...]
 //! kinscene plan     --scene S.urdf --goal G.toml [--budget 10s] [--out plan.json]
 //!                   [--strategy search|random|paper] [--seed N] [--robot URDF|gen3]
-//!                   [--tool-link LINK]
+//!                   [--tool-link LINK] [--srdf FILE]
 //!                   [--package NAME=PATH ...]
 //! kinscene validate --scene S.urdf --goal G.toml --plan plan.json [--package NAME=PATH ...]
 //! ```

@@ -20,6 +20,8 @@ pub struct RobotArgs<'a> {
     pub path: &'a Path,
     /// The link whose frame is the tool (`None`: `tool_frame`).
     pub tool_link: Option<&'a str>,
+    /// The robot's SRDF (`None`: exemptions computed by sampling).
+    pub srdf: Option<&'a Path>,
     /// `package://NAME` roots for the robot's meshes.
     pub packages: &'a [(String, std::path::PathBuf)],
 }
@@ -51,7 +53,7 @@ pub fn run(
 #[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
 mod imp {
     use super::*;
-    use kinscene::kinematics::robot::{RobotImportOptions, RobotModel};
+    use kinscene::kinematics::robot::{PairSampling, RobotImportOptions, RobotModel, Srdf};
     use kinscene::planner::{
         HierarchicalPlanner, MotionDocument, MotionOutcome, PlannerError, PlannerSettings,
     };
@@ -70,9 +72,9 @@ mod imp {
         out: &mut dyn Write,
     ) -> Result<Verdict, CliError> {
         let robot_model = if robot.path.as_os_str() == "gen3" {
-            if robot.tool_link.is_some() {
+            if robot.tool_link.is_some() || robot.srdf.is_some() {
                 return Err(CliError::new(
-                    "--tool-link applies to a robot URDF, not the shipped gen3",
+                    "--tool-link and --srdf apply to a robot URDF, not the shipped gen3",
                 ));
             }
             RobotModel::kinova_gen3_mobile()
@@ -82,8 +84,28 @@ mod imp {
                 options.tool_link = link.to_owned();
             }
             options.package_paths = robot.packages.iter().cloned().collect();
-            RobotModel::from_urdf_file_with(robot.path, &options)
-                .map_err(|e| CliError::new(format!("{}: {e}", robot.path.display())))?
+            let loaded = RobotModel::from_urdf_file_with(robot.path, &options)
+                .map_err(|e| CliError::new(format!("{}: {e}", robot.path.display())))?;
+            match robot.srdf {
+                Some(path) => {
+                    let at = |e: kinscene::kinematics::robot::RobotError| {
+                        CliError::new(format!("{}: {e}", path.display()))
+                    };
+                    let srdf = Srdf::from_file(path).map_err(at)?;
+                    let unknown = loaded.srdf_unknown_links(&srdf);
+                    if !unknown.is_empty() {
+                        eprintln!(
+                            "kinscene: {}: disable_collisions pairs skipped, links not in the robot model: {}",
+                            path.display(),
+                            unknown.join(", ")
+                        );
+                    }
+                    loaded.with_srdf(&srdf).map_err(at)?
+                }
+                None => loaded
+                    .with_sampled_pairs(&PairSampling::default())
+                    .map_err(|e| CliError::new(format!("{}: {e}", robot.path.display())))?,
+            }
         };
         let name = robot_model.name().to_string();
         let planner = HierarchicalPlanner::new(robot_model, {

@@ -59,10 +59,12 @@ pub struct RobotCollision {
 }
 
 impl RobotCollision {
-    /// Compiles the robot's collision geometry and finds the allowed self-collision pairs:
-    /// adjacent links (a link and the child of its joint), and every pair of links that touch
-    /// at [`RobotModel::neutral`] (e.g. a wrist link and the next-but-one link of a compact
-    /// wrist, whose simple shapes overlap by construction).
+    /// Compiles the robot's collision geometry and takes its self-collision exemptions:
+    /// [`RobotModel::allowed_pairs`] when the robot has them (from an SRDF or computed by
+    /// sampling); otherwise, a guess from a single pose: adjacent links (a link and the child
+    /// of its joint) and every pair of links that touch at [`RobotModel::neutral`] (e.g. a
+    /// wrist link and the next-but-one link of a compact wrist, whose simple shapes overlap by
+    /// construction).
     ///
     /// # Errors
     /// [`RobotError::Collision`] if parry cannot compile a shape.
@@ -98,6 +100,23 @@ impl RobotCollision {
             base_links: vec![0],
         };
         let n = robot.links().len();
+        if let Some(pairs) = robot.allowed_pairs() {
+            let listed: std::collections::BTreeSet<(usize, usize)> =
+                pairs.iter().map(|p| (p.link1, p.link2)).collect();
+            for i in 0..n {
+                for j in i + 1..n {
+                    if collision.shapes[i].is_empty() || collision.shapes[j].is_empty() {
+                        continue;
+                    }
+                    if listed.contains(&(i, j)) {
+                        collision.allowed.push((i, j));
+                    } else {
+                        collision.checked.push((i, j));
+                    }
+                }
+            }
+            return Ok(collision);
+        }
         let neutral = robot.link_poses(&RobotConfig {
             base: [0.0; 3],
             arm: robot.neutral(),
@@ -275,6 +294,28 @@ impl RobotCollision {
     /// arm stowed checks these and the arm links at the stowed configuration.
     pub fn base_links(&self) -> &[usize] {
         &self.base_links
+    }
+
+    /// Every pair `(i, j)`, `i < j`, of links with shapes whose shapes touch or overlap at
+    /// `link_poses`, exempt or not.
+    pub(super) fn touching_pairs(&self, link_poses: &[Isometry3<f64>]) -> Vec<(usize, usize)> {
+        let centers = self.world_spheres(link_poses);
+        let placed = self.place(link_poses);
+        let mut touching = Vec::new();
+        for i in 0..placed.len() {
+            for j in i + 1..placed.len() {
+                let (Some((ci, ri)), Some((cj, rj))) = (centers[i], centers[j]) else {
+                    continue;
+                };
+                if (ci - cj).norm() > ri + rj {
+                    continue;
+                }
+                if min_distance(&placed[i], &placed[j], 0.0) <= 0.0 {
+                    touching.push((i, j));
+                }
+            }
+        }
+        touching
     }
 
     /// Every link's shapes placed at `link_poses`.

@@ -181,6 +181,14 @@ pub enum RobotError {
         /// The value given.
         value: f64,
     },
+    /// The SRDF is not well-formed, or an element lacks what it needs.
+    #[error("robot SRDF {element}: {message}")]
+    Srdf {
+        /// The element at fault (`document` for the file as a whole).
+        element: String,
+        /// What is wrong.
+        message: String,
+    },
     /// Pinocchio rejected the model built from the parsed robot, or could not be loaded.
     #[error("Pinocchio: {0}")]
     Pinocchio(#[from] kinscene_pinocchio::Error),

@@ -55,6 +55,14 @@
 //!   [`RobotModel::from_urdf_file_with`]); a mesh that cannot be loaded is
 //!   [`RobotError::MeshCollision`] with the loader's reason. Visuals, inertials, effort limits, `<dynamics>`,
 //!   `<safety_controller>` and anything urdf-rs skips are ignored.
+//! - **Self-collision exemptions** ([`RobotModel::allowed_pairs`]). From an SRDF's
+//!   `disable_collisions` ([`RobotModel::with_srdf`], which also takes its stowed
+//!   `group_state` as the neutral configuration), or computed as setup tools compute them
+//!   ([`RobotModel::with_sampled_pairs`]: adjacent links, pairs touching in nearly all random
+//!   configurations or at the neutral one, and on request pairs touching in none) and saved with
+//!   [`RobotModel::to_srdf`]. A robot loaded from a URDF alone has none, and its
+//!   [`RobotCollision`] guesses them from a single pose (adjacent links and the pairs touching
+//!   at the neutral configuration).
 //! - **Base limits.** URDF has no base description: the base is [`BaseKind::Holonomic`] with
 //!   [`DEFAULT_BASE_VELOCITY`] (0.5 m/s in x and y, 1.0 rad/s in yaw) and
 //!   [`DEFAULT_BASE_ACCELERATION`] (0.5 m/s², 1.0 rad/s²); its footprint radius is computed
@@ -82,7 +90,9 @@
 mod collision;
 mod error;
 mod model;
+mod pairs;
 mod pinocchio;
+mod srdf;
 mod urdf;
 
 pub use collision::{Exempt, RobotCollision};
@@ -92,4 +102,6 @@ pub use model::{
     DEFAULT_PRISMATIC_ACCELERATION, DEFAULT_REVOLUTE_ACCELERATION, MobileBase, RobotConfig,
     RobotImportOptions, RobotLink, RobotModel,
 };
+pub use pairs::{AllowedPair, PairReason, PairSampling};
 pub use pinocchio::TOOL_FRAME;
+pub use srdf::{DisabledPair, GroupState, Srdf, SrdfGroup};

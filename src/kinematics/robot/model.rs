@@ -1,7 +1,6 @@
 //! The immutable [`RobotModel`] and its plain-data pieces.
 
 use std::collections::BTreeMap;
-use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -199,18 +198,17 @@ pub struct RobotModel {
     pub(super) neutral: DVector<f64>,
     pub(super) pinocchio: Arc<kinscene_pinocchio::Model>,
     pub(super) tool_frame: kinscene_pinocchio::FrameIndex,
+    /// The self-collision exemptions, when given or computed (see
+    /// [`RobotModel::allowed_pairs`]).
+    pub(super) allowed_pairs: Option<Arc<[super::AllowedPair]>>,
 }
 
 /// The shipped robot's URDF (see `robots/kinova_gen3_mobile.urdf`).
 const KINOVA_GEN3_MOBILE_URDF: &str = include_str!("../../../robots/kinova_gen3_mobile.urdf");
 
-/// The shipped robot's stowed configuration (rad), joints 1–7: the arm turned backwards
-/// (q1 = π), the upper arm tilted by 0.4 rad, the forearm folded down over the base (q4 = 2.2)
-/// and the gripper pointing down above the chassis top, all within the chassis' footprint
-/// circle. Found by a grid search over the planar folds (q1, q3, q5 ∈ {0, π}, q7 = π/2, q2,
-/// q4, q6 on a 0.1 rad grid) for the lowest arm whose links stay inside the chassis' footprint
-/// radius and whose non-adjacent links keep apart under ±0.06 rad perturbations.
-const KINOVA_GEN3_MOBILE_NEUTRAL: [f64; 7] = [PI, 0.4, 0.0, 2.2, PI, -1.0, PI / 2.0];
+/// The shipped robot's SRDF: its arm group, stowed configuration and self-collision
+/// exemptions (see `robots/kinova_gen3_mobile.srdf`).
+const KINOVA_GEN3_MOBILE_SRDF: &str = include_str!("../../../robots/kinova_gen3_mobile.srdf");
 
 impl RobotModel {
     /// Loads a robot from URDF text, with the tool frame at the link `tool_frame`.
@@ -273,8 +271,9 @@ impl RobotModel {
     }
 
     /// The shipped example robot: an omnidirectional base carrying a Kinova Gen3 7-DoF arm with
-    /// a Robotiq 2F-140 gripper (`robots/kinova_gen3_mobile.urdf`, compiled in), with its
-    /// stowed configuration as [`RobotModel::neutral`].
+    /// a Robotiq 2F-140 gripper (`robots/kinova_gen3_mobile.urdf` and `.srdf`, compiled in),
+    /// with the SRDF's stowed configuration as [`RobotModel::neutral`] and its exemptions as
+    /// [`RobotModel::allowed_pairs`].
     ///
     /// # Panics
     /// Only if the Pinocchio backend cannot be loaded (the shipped URDF itself is checked by
@@ -292,7 +291,7 @@ impl RobotModel {
     /// [`RobotError::Pinocchio`] if the backend cannot be loaded.
     pub fn try_kinova_gen3_mobile() -> Result<RobotModel, RobotError> {
         RobotModel::from_urdf_str(KINOVA_GEN3_MOBILE_URDF)?
-            .with_neutral(&DVector::from_row_slice(&KINOVA_GEN3_MOBILE_NEUTRAL))
+            .with_srdf(&super::Srdf::parse(KINOVA_GEN3_MOBILE_SRDF)?)
     }
 
     fn from_parsed(parsed: Parsed) -> Result<RobotModel, RobotError> {
@@ -317,6 +316,7 @@ impl RobotModel {
             neutral,
             pinocchio: Arc::new(pinocchio),
             tool_frame,
+            allowed_pairs: None,
         };
         robot.base.footprint_radius = robot.footprint_at_neutral();
         Ok(robot)
