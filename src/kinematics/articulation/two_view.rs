@@ -443,7 +443,7 @@ fn estimate(s: &TwoViewSettings, i: &Interaction<'_>) -> Estimate {
         .filter(|p| residual(&(chosen.motion * *p)) <= tau)
         .count() as f64
         / n;
-    let score = (inliers * margin / (margin + 10.0)).clamp(0.0, 1.0);
+    let score = score_of(inliers, margin);
     let details = format!(
         "two-view: tau {tau:.4} m, {} seed points, {} post points, rigid cost {:.3e}, \
          BIC revolute {bic_r:.1} prismatic {bic_p:.1}, path residual revolute {path_r:.4} m \
@@ -623,9 +623,30 @@ fn median(values: &[f64]) -> f64 {
     *v.select_nth_unstable_by(mid, f64::total_cmp).1
 }
 
+/// The estimate's score: the inlier fraction times the model-selection confidence
+/// `margin / (margin + 10)`. An infinite margin (only one model could be registered) is a
+/// certain selection (the quotient itself would be ∞/∞ = NaN).
+fn score_of(inliers: f64, margin: f64) -> f64 {
+    let selection = if margin.is_finite() {
+        margin / (margin + 10.0)
+    } else {
+        1.0
+    };
+    (inliers * selection).clamp(0.0, 1.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A failed rotation fit (BIC ∞) makes the margin infinite: the score is then the inlier
+    /// fraction, finite, not ∞/∞ = NaN.
+    #[test]
+    fn an_infinite_margin_scores_the_inliers() {
+        assert_eq!(score_of(0.8, f64::INFINITY), 0.8);
+        // 10 / (10 + 10) = half the inliers.
+        assert!((score_of(0.8, 10.0) - 0.4).abs() < 1e-12);
+    }
 
     /// A straight path fits the translation model and misses a 90° rotation that maps its ends
     /// onto each other; an arc fits its own rotation and misses the chord's translation.
