@@ -53,6 +53,8 @@
 //!
 //! `cargo bench --no-default-features --bench rooms` (the task layer is pure Rust).
 
+#[path = "../tests/task/generators.rs"]
+mod generators;
 #[path = "../tests/task/rooms.rs"]
 mod rooms;
 

@@ -4,7 +4,8 @@
 //! of targets that collide in every goal state; the argument is in [`Conflict`] and at the
 //! functions that build each pair).
 //!
-//! Reusable from benches through `#[path = "../tests/task/rooms.rs"] mod rooms;`; depends
+//! Reusable from benches through `#[path = "../tests/task/rooms.rs"] mod rooms;` beside
+//! `#[path = "../tests/task/generators.rs"] mod generators;` (its random generator); depends
 //! only on the public `kinscene` API and `nalgebra`.
 //!
 //! # Conventions
@@ -73,6 +74,8 @@
 
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
+
+use super::generators::Rng;
 
 use kinscene::scene::collision::{CollisionSettings, collisions_of};
 use kinscene::scene::nav::{GridBounds, NavGridSettings};
@@ -455,62 +458,25 @@ pub fn room(params: &RoomParams) -> Room {
 // ---------------------------------------------------------------------------------------------
 // Randomness
 
-/// SplitMix64: a tiny seedable generator, so that a room is a pure function of its
-/// parameters.
-#[derive(Debug, Clone)]
-pub struct Rng(u64);
+// The generator is the kitchen generators' SplitMix64 (`super::generators::Rng`), so that a
+// room is a pure function of its parameters.
 
-impl Rng {
-    /// A generator seeded with `seed`.
-    pub fn new(seed: u64) -> Self {
-        Rng(seed)
+/// A uniformly shuffled copy of `v` (Fisher–Yates).
+fn shuffled<T: Clone>(rng: &mut Rng, v: &[T]) -> Vec<T> {
+    let mut v = v.to_vec();
+    for i in (1..v.len()).rev() {
+        let j = rng.below(i + 1);
+        v.swap(i, j);
     }
+    v
+}
 
-    /// The next 64 random bits.
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `[0, 1)`.
-    pub fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    /// Uniform in `[lo, hi)`.
-    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-
-    /// Uniform in `0..n` (`n > 0`).
-    pub fn below(&mut self, n: usize) -> usize {
-        (self.next_u64() % n as u64) as usize
-    }
-
-    /// True with probability `p`.
-    pub fn chance(&mut self, p: f64) -> bool {
-        self.unit() < p
-    }
-
-    /// A uniformly shuffled copy of `v` (Fisher–Yates).
-    pub fn shuffled<T: Clone>(&mut self, v: &[T]) -> Vec<T> {
-        let mut v = v.to_vec();
-        for i in (1..v.len()).rev() {
-            let j = self.below(i + 1);
-            v.swap(i, j);
-        }
-        v
-    }
-
-    fn hinge(&mut self) -> Hinge {
-        if self.chance(0.5) {
-            Hinge::Low
-        } else {
-            Hinge::High
-        }
+/// The hinge side, either with probability ½.
+fn hinge(rng: &mut Rng) -> Hinge {
+    if rng.chance(0.5) {
+        Hinge::Low
+    } else {
+        Hinge::High
     }
 }
 
@@ -853,11 +819,11 @@ fn run_modules(rng: &mut Rng, count: usize, corners: (bool, bool)) -> Vec<Module
             let base = if corner || (i + phase) % 2 == 0 {
                 Base::Drawers(3)
             } else {
-                Base::Door(rng.hinge())
+                Base::Door(hinge(rng))
             };
             Module {
                 base,
-                upper: Some(rng.hinge()),
+                upper: Some(hinge(rng)),
                 corner,
             }
         })
@@ -1469,14 +1435,14 @@ fn corridor_layout(rng: &mut Rng, parts: usize, width: f64) -> Layout {
         } else if left == 1 {
             Bay::Office {
                 push: rng.chance(0.3),
-                hinge: rng.hinge(),
+                hinge: hinge(rng),
             }
         } else {
             match rng.below(20) {
                 0..=6 => Bay::Pair,
                 7..=10 => Bay::Office {
                     push: rng.chance(0.3),
-                    hinge: rng.hinge(),
+                    hinge: hinge(rng),
                 },
                 _ => {
                     let tiers = if rng.chance(0.8) { 2 } else { 1 };
@@ -1484,7 +1450,7 @@ fn corridor_layout(rng: &mut Rng, parts: usize, width: f64) -> Layout {
                     Bay::Lockers {
                         cols,
                         tiers,
-                        hinge: rng.hinge(),
+                        hinge: hinge(rng),
                     }
                 }
             }
@@ -1572,7 +1538,7 @@ fn pick_targets(
     let n = eligible.len();
     for g in 0..k {
         let group: Vec<usize> = (g * n / k..(g + 1) * n / k).collect();
-        for i in rng.shuffled(&group) {
+        for i in shuffled(rng, &group) {
             if let Some(v) = fits(&mut state, eligible[i]) {
                 used[i] = true;
                 taken.push((eligible[i].joint.clone(), v));
@@ -1582,7 +1548,7 @@ fn pick_targets(
     }
     // Groups where nothing fitted: any other part.
     let rest: Vec<usize> = (0..n).filter(|&i| !used[i]).collect();
-    for i in rng.shuffled(&rest) {
+    for i in shuffled(rng, &rest) {
         if taken.len() == k {
             break;
         }

@@ -12,6 +12,7 @@
 use std::path::Path;
 
 use super::RobotError;
+use crate::scene::urdf::escape_attribute;
 
 /// An SRDF document (the subset this crate uses).
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -133,16 +134,22 @@ impl Srdf {
 
     /// The document as SRDF text (groups, group states and disabled pairs; loads back with
     /// [`Srdf::parse`] to an equal value).
-    pub fn to_xml(&self) -> String {
+    ///
+    /// # Errors
+    /// [`RobotError::Srdf`] for a name XML 1.0 cannot hold (a control character).
+    pub fn to_xml(&self) -> Result<String, RobotError> {
+        let e = |text: &str| {
+            escape_attribute(text).map_err(|e| srdf_error(&format!("name {text:?}"), e))
+        };
         let mut out = String::from("<?xml version=\"1.0\"?>\n");
-        out += &format!("<robot name=\"{}\">\n", escape(&self.robot));
+        out += &format!("<robot name=\"{}\">\n", e(&self.robot)?);
         for g in &self.groups {
-            out += &format!("  <group name=\"{}\">\n", escape(&g.name));
+            out += &format!("  <group name=\"{}\">\n", e(&g.name)?);
             if let Some((base, tip)) = &g.chain {
                 out += &format!(
                     "    <chain base_link=\"{}\" tip_link=\"{}\"/>\n",
-                    escape(base),
-                    escape(tip)
+                    e(base)?,
+                    e(tip)?
                 );
             }
             for (tag, names) in [
@@ -151,7 +158,7 @@ impl Srdf {
                 ("group", &g.subgroups),
             ] {
                 for name in names {
-                    out += &format!("    <{tag} name=\"{}\"/>\n", escape(name));
+                    out += &format!("    <{tag} name=\"{}\"/>\n", e(name)?);
                 }
             }
             out += "  </group>\n";
@@ -159,15 +166,15 @@ impl Srdf {
         for s in &self.group_states {
             out += &format!(
                 "  <group_state name=\"{}\" group=\"{}\">\n",
-                escape(&s.name),
-                escape(&s.group)
+                e(&s.name)?,
+                e(&s.group)?
             );
             for (joint, values) in &s.joints {
                 // `{}` prints the shortest text that parses back to the same f64.
                 let values: Vec<String> = values.iter().map(|v| format!("{v}")).collect();
                 out += &format!(
                     "    <joint name=\"{}\" value=\"{}\"/>\n",
-                    escape(joint),
+                    e(joint)?,
                     values.join(" ")
                 );
             }
@@ -176,13 +183,13 @@ impl Srdf {
         for p in &self.disabled {
             out += &format!(
                 "  <disable_collisions link1=\"{}\" link2=\"{}\" reason=\"{}\"/>\n",
-                escape(&p.link1),
-                escape(&p.link2),
-                escape(&p.reason)
+                e(&p.link1)?,
+                e(&p.link2)?,
+                e(&p.reason)?
             );
         }
         out += "</robot>\n";
-        out
+        Ok(out)
     }
 }
 
@@ -264,22 +271,6 @@ fn group_state(node: &roxmltree::Node<'_, '_>) -> Result<GroupState, RobotError>
     Ok(s)
 }
 
-/// `text` with the five XML special characters escaped.
-fn escape(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c => out.push(c),
-        }
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -313,7 +304,12 @@ mod tests {
         assert_eq!(srdf.disabled[1].reason, "Never");
         // "stow" ranks above "ready", matched without regard to case.
         assert_eq!(srdf.stow_state().unwrap().name, "Stow");
-        assert_eq!(Srdf::parse(&srdf.to_xml()).unwrap(), srdf);
+        assert_eq!(Srdf::parse(&srdf.to_xml().unwrap()).unwrap(), srdf);
+        let bad = Srdf {
+            robot: "bell\u{7}".into(),
+            ..Srdf::default()
+        };
+        assert!(matches!(bad.to_xml(), Err(RobotError::Srdf { .. })));
     }
 
     #[test]

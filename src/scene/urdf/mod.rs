@@ -158,6 +158,8 @@ mod scan;
 mod tree;
 mod xml;
 
+pub(crate) use xml::escape as escape_attribute;
+
 pub use export::{write_file, write_string};
 pub use import::{read_file, read_str};
 pub use options::{ExportOptions, ImportOptions};

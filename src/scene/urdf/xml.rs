@@ -135,7 +135,7 @@ pub(super) fn origin(x: &mut String, indent: &str, pose: &Isometry3<f64>) {
 /// # Errors
 /// [`Error::UnwritableName`] for characters XML 1.0 cannot hold (control characters other
 /// than tab, newline and carriage return; U+FFFE; U+FFFF).
-pub(super) fn escape(text: &str) -> Result<String, Error> {
+pub(crate) fn escape(text: &str) -> Result<String, Error> {
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
         match c {
