@@ -882,3 +882,40 @@ fn plan_with_a_robot_srdf() {
     let doc: Value = serde_json::from_slice(&output.stdout).unwrap();
     assert_eq!(doc["status"], "solved");
 }
+
+/// `--arm-root` and `--frozen` name what they get wrong (exit 2): a joint that is an arm joint
+/// of the Gen3, a value that is not a number, a link that is not on the arm's path.
+#[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
+#[test]
+fn plan_with_frozen_joints_and_an_arm_root_checks_them() {
+    let scene = scratch_file("counter_frozen.urdf", COUNTER_URDF);
+    let goal = scratch_file(
+        "counter_goal_frozen.toml",
+        "[goal]\ndrawer_slide = { min = 0.25 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
+    );
+    let urdf = Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/kinova_gen3_mobile.urdf");
+    let run = |flag: &str, value: &str| {
+        kinscene(&[
+            "plan",
+            "--scene",
+            arg(&scene),
+            "--goal",
+            arg(&goal),
+            "--robot",
+            arg(&urdf),
+            flag,
+            value,
+            "--budget",
+            "1s",
+        ])
+    };
+    let line = assert_bad_input(&run("--frozen", "Actuator1=0"));
+    assert!(
+        line.contains("Actuator1") && line.contains("arm joint"),
+        "{line}"
+    );
+    let line = assert_bad_input(&run("--arm-root", "no_such_link"));
+    assert!(line.contains("no_such_link"), "{line}");
+    // clap's usage error for a value that is not a number.
+    assert_eq!(run("--frozen", "Actuator1=fast").status.code(), Some(2));
+}

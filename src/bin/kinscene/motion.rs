@@ -22,6 +22,10 @@ pub struct RobotArgs<'a> {
     pub tool_link: Option<&'a str>,
     /// The robot's SRDF (`None`: exemptions computed by sampling).
     pub srdf: Option<&'a Path>,
+    /// The link the arm starts at (`None`: the base link).
+    pub arm_root: Option<&'a str>,
+    /// Values of frozen joints.
+    pub frozen: &'a [(String, f64)],
     /// `package://NAME` roots for the robot's meshes.
     pub packages: &'a [(String, std::path::PathBuf)],
 }
@@ -72,9 +76,13 @@ mod imp {
         out: &mut dyn Write,
     ) -> Result<Verdict, CliError> {
         let robot_model = if robot.path.as_os_str() == "gen3" {
-            if robot.tool_link.is_some() || robot.srdf.is_some() {
+            if robot.tool_link.is_some()
+                || robot.srdf.is_some()
+                || robot.arm_root.is_some()
+                || !robot.frozen.is_empty()
+            {
                 return Err(CliError::new(
-                    "--tool-link and --srdf apply to a robot URDF, not the shipped gen3",
+                    "--tool-link, --srdf, --arm-root and --frozen apply to a robot URDF, not the shipped gen3",
                 ));
             }
             RobotModel::kinova_gen3_mobile()
@@ -84,6 +92,8 @@ mod imp {
                 options.tool_link = link.to_owned();
             }
             options.package_paths = robot.packages.iter().cloned().collect();
+            options.arm_root = robot.arm_root.map(str::to_owned);
+            options.frozen = robot.frozen.iter().cloned().collect();
             let loaded = RobotModel::from_urdf_file_with(robot.path, &options)
                 .map_err(|e| CliError::new(format!("{}: {e}", robot.path.display())))?;
             match robot.srdf {

@@ -1,5 +1,6 @@
 //! `kinscene plan --scene S.urdf --goal G.toml [--budget 10s] [--out plan.json]
 //! [--strategy search|random|paper] [--seed N] [--robot URDF|gen3] [--tool-link LINK] [--srdf FILE]
+//! [--arm-root LINK] [--frozen JOINT=VALUE ...]
 //! [--package NAME=PATH ...]`:
 //! plans the order of single-joint changes that reaches a goal ([`kinscene::task::plan`]) and
 //! writes the plan document. With `--robot`, the hierarchical planner refines the order into
@@ -104,6 +105,25 @@ pub struct Args {
     /// pairs touching in 95 % of 2 000 random configurations or at the stow).
     #[arg(long, value_name = "FILE", requires = "robot")]
     srdf: Option<PathBuf>,
+    /// With a robot URDF: the link the arm starts at; movable joints above it on the way from
+    /// the base (a torso lift) are frozen [default: the base link].
+    #[arg(long, value_name = "LINK", requires = "robot")]
+    arm_root: Option<String>,
+    /// With a robot URDF: hold a movable joint that is not an arm joint (head, torso, wheels,
+    /// fingers) at VALUE (rad or m; repeatable) [default: 0 clamped into its limits].
+    #[arg(long = "frozen", value_name = "JOINT=VALUE", value_parser = parse_frozen, requires = "robot")]
+    frozen: Vec<(String, f64)>,
+}
+
+/// Parses `JOINT=VALUE`.
+fn parse_frozen(s: &str) -> Result<(String, f64), String> {
+    match s.split_once('=') {
+        Some((name, value)) if !name.is_empty() => match value.trim().parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok((name.to_string(), v)),
+            _ => Err(format!("{value:?} is not a finite number")),
+        },
+        _ => Err(format!("expected JOINT=VALUE, got {s:?}")),
+    }
 }
 
 /// `--strategy`.
@@ -173,6 +193,8 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<Verdict, CliError> {
             path: robot,
             tool_link: args.tool_link.as_deref(),
             srdf: args.srdf.as_deref(),
+            arm_root: args.arm_root.as_deref(),
+            frozen: &args.frozen,
             packages: &args.input.packages,
         };
         return crate::motion::run(

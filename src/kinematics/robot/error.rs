@@ -60,16 +60,23 @@ pub enum RobotError {
         /// The base link.
         base: String,
     },
-    /// A movable joint lies off the arm chain (the path from the base to the tool link) and is
-    /// not part of the gripper (below the last arm joint).
-    #[error(
-        "robot URDF joint {joint:?} branches off the arm chain at link {link:?}: the movable joints must form one serial chain"
-    )]
-    BranchingChain {
-        /// The joint off the chain.
-        joint: String,
-        /// The link it hangs from.
+    /// [`RobotImportOptions::arm_root`](super::RobotImportOptions::arm_root) is not a link on
+    /// the path from the base link to the tool link.
+    #[error("robot arm root {link:?}: {reason}")]
+    InvalidArmRoot {
+        /// The link named.
         link: String,
+        /// Why it cannot be the arm root.
+        reason: String,
+    },
+    /// A [`RobotImportOptions::frozen`](super::RobotImportOptions::frozen) entry names no
+    /// movable joint off the arm, or a value outside the joint's limits.
+    #[error("robot frozen joint {joint:?}: {reason}")]
+    InvalidFrozen {
+        /// The joint named.
+        joint: String,
+        /// What is wrong.
+        reason: String,
     },
     /// A joint axis is zero or not finite.
     #[error("robot URDF joint {joint:?}: invalid axis {axis:?} (must be finite and non-zero)")]

@@ -22,14 +22,17 @@
 //!   joint merge into the base link; the arm root link's frame in the base frame is
 //!   [`RobotModel::base_from_arm_root`].
 //! - **Arm.** The arm is the chain of `revolute`, `continuous` and `prismatic` joints on the
-//!   path from the base link to the tool link, root to tip ([`RobotModel::arm_joints`]); it
-//!   must have at least one joint ([`RobotError::NoMovableJoint`]). [`RobotModel::links`]
-//!   holds the base link and one link per arm joint (its child).
-//! - **Gripper.** Movable joints off that path are allowed only below the last arm joint (a
-//!   gripper's finger and `<mimic>` joints): they are treated as fixed, frozen at value 0
-//!   clamped into their limits (their velocity limits are not checked), and their links merge
-//!   into the last arm link. A movable joint
-//!   anywhere else is [`RobotError::BranchingChain`].
+//!   path from the base link to the tool link, root to tip ([`RobotModel::arm_joints`]), or
+//!   from [`RobotImportOptions::arm_root`] when set; it must have at least one joint
+//!   ([`RobotError::NoMovableJoint`]). [`RobotModel::links`] holds the base link and one link
+//!   per arm joint (its child).
+//! - **Frozen joints.** Every other movable joint — a head, wheels, a torso above the arm
+//!   root, a second arm, a gripper's finger and `<mimic>` joints — is held at its value in
+//!   [`RobotImportOptions::frozen`], or at 0 clamped into its limits
+//!   ([`RobotModel::frozen_joints`]; its velocity limit is not checked): it is treated as
+//!   fixed, and its links merge into the robot link it hangs from, so they stay in the
+//!   collision model at that value. A `frozen` entry that names no such joint, or a value
+//!   outside the joint's limits, is [`RobotError::InvalidFrozen`].
 //! - **Tool.** The tool frame (TCP) is the frame of the link `tool_frame`, or of
 //!   [`RobotImportOptions::tool_link`]; its +z axis is the approach direction. Its pose in the
 //!   last arm link is [`RobotModel::last_from_tool`]; it must exist
@@ -99,8 +102,8 @@ pub use collision::{Exempt, RobotCollision};
 pub use error::RobotError;
 pub use model::{
     ArmJoint, ArmJointKind, BaseKind, DEFAULT_BASE_ACCELERATION, DEFAULT_BASE_VELOCITY,
-    DEFAULT_PRISMATIC_ACCELERATION, DEFAULT_REVOLUTE_ACCELERATION, MobileBase, RobotConfig,
-    RobotImportOptions, RobotLink, RobotModel,
+    DEFAULT_PRISMATIC_ACCELERATION, DEFAULT_REVOLUTE_ACCELERATION, FrozenJoint, MobileBase,
+    RobotConfig, RobotImportOptions, RobotLink, RobotModel,
 };
 pub use pairs::{AllowedPair, PairReason, PairSampling};
 pub use pinocchio::TOOL_FRAME;

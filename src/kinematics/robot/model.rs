@@ -148,7 +148,7 @@ pub struct RobotConfig {
 }
 
 /// Import options of [`RobotModel::from_urdf_str_with`].
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct RobotImportOptions {
     /// Name of the link whose frame is the tool frame (TCP). Default `"tool_frame"`.
     pub tool_link: String,
@@ -169,6 +169,16 @@ pub struct RobotImportOptions {
     /// Directory that relative mesh paths resolve against. `None`: the current directory;
     /// [`RobotModel::from_urdf_file_with`] uses the file's directory when this is `None`.
     pub base_dir: Option<PathBuf>,
+    /// The link the arm starts at. `None` (the default): the base link, so every movable joint
+    /// on the path from the base to the tool link is an arm joint. With a link on that path,
+    /// the movable joints above it (a torso lift, say) are frozen like the joints off the
+    /// path ([`RobotImportOptions::frozen`]).
+    pub arm_root: Option<String>,
+    /// Values (rad or m) of movable joints that are not arm joints: a head, wheels, a second
+    /// arm, fingers, joints above [`RobotImportOptions::arm_root`]. Such a joint is frozen at
+    /// its value here, or at 0 clamped into its limits, and its links stay in the collision
+    /// model at that value. Default empty.
+    pub frozen: BTreeMap<String, f64>,
 }
 
 impl Default for RobotImportOptions {
@@ -178,8 +188,20 @@ impl Default for RobotImportOptions {
             contact_links: None,
             package_paths: BTreeMap::new(),
             base_dir: None,
+            arm_root: None,
+            frozen: BTreeMap::new(),
         }
     }
+}
+
+/// A movable URDF joint that is not an arm joint, held at one value
+/// ([`RobotImportOptions::frozen`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrozenJoint {
+    /// The URDF joint name.
+    pub name: String,
+    /// Its value (rad or m).
+    pub value: f64,
 }
 
 /// A mobile manipulator: a planar base carrying one serial arm with a tool frame. See the
@@ -201,6 +223,7 @@ pub struct RobotModel {
     /// The self-collision exemptions, when given or computed (see
     /// [`RobotModel::allowed_pairs`]).
     pub(super) allowed_pairs: Option<Arc<[super::AllowedPair]>>,
+    pub(super) frozen: Vec<FrozenJoint>,
 }
 
 /// The shipped robot's URDF (see `robots/kinova_gen3_mobile.urdf`).
@@ -225,7 +248,7 @@ impl RobotModel {
     /// A [`RobotError`] naming the element at fault: [`RobotError::Xml`] (not URDF),
     /// [`RobotError::DuplicateName`], [`RobotError::UnknownLink`], [`RobotError::NotATree`],
     /// [`RobotError::UnsupportedJointType`], [`RobotError::MissingToolLink`],
-    /// [`RobotError::NoMovableJoint`], [`RobotError::BranchingChain`],
+    /// [`RobotError::NoMovableJoint`], [`RobotError::InvalidArmRoot`], [`RobotError::InvalidFrozen`],
     /// [`RobotError::InvalidAxis`], [`RobotError::InvalidLimits`],
     /// [`RobotError::NonPositiveLimit`], [`RobotError::NonFinite`],
     /// [`RobotError::MeshCollision`] (a mesh that cannot be loaded), [`RobotError::InvalidShape`];
@@ -317,6 +340,7 @@ impl RobotModel {
             pinocchio: Arc::new(pinocchio),
             tool_frame,
             allowed_pairs: None,
+            frozen: parsed.frozen,
         };
         robot.base.footprint_radius = robot.footprint_at_neutral();
         Ok(robot)
@@ -340,6 +364,12 @@ impl RobotModel {
     /// The arm joints, root to tip.
     pub fn arm_joints(&self) -> &[ArmJoint] {
         &self.joints
+    }
+
+    /// The movable URDF joints that are not arm joints and the values they are frozen at, in
+    /// the order the URDF tree is walked.
+    pub fn frozen_joints(&self) -> &[FrozenJoint] {
+        &self.frozen
     }
 
     /// The links: `[0]` is the base link (it moves with the base), `[i + 1]` the child link of

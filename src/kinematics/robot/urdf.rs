@@ -8,7 +8,7 @@ use urdf_rs::{Geometry, JointType};
 use super::model::check_positive_limit;
 use super::{
     ArmJoint, ArmJointKind, DEFAULT_PRISMATIC_ACCELERATION, DEFAULT_REVOLUTE_ACCELERATION,
-    RobotError, RobotImportOptions, RobotLink,
+    FrozenJoint, RobotError, RobotImportOptions, RobotLink,
 };
 use crate::scene::urdf::ImportOptions;
 use crate::scene::urdf::mesh::MeshCache;
@@ -26,6 +26,7 @@ pub(super) struct Parsed {
     pub links: Vec<RobotLink>,
     pub base_from_arm_root: Isometry3<f64>,
     pub last_from_tool: Isometry3<f64>,
+    pub frozen: Vec<FrozenJoint>,
 }
 
 /// Parses and checks a robot URDF (see the module docs of `robot` for the conventions).
@@ -187,6 +188,26 @@ impl Tree {
             at = self.ends[j].0;
         }
         path.reverse();
+        // The arm starts below the arm root: drop the path's joints above it.
+        if let Some(root) = &options.arm_root {
+            let invalid = |reason: &str| RobotError::InvalidArmRoot {
+                link: root.clone(),
+                reason: reason.to_owned(),
+            };
+            let &link = self
+                .links
+                .get(root)
+                .ok_or_else(|| invalid("no such link"))?;
+            if link != base_link {
+                let k = path
+                    .iter()
+                    .position(|&j| self.ends[j].1 == link)
+                    .ok_or_else(|| {
+                        invalid("not on the path from the base link to the tool link")
+                    })?;
+                path.drain(..=k);
+            }
+        }
         let arm: Vec<usize> = path
             .iter()
             .copied()
@@ -216,8 +237,25 @@ impl Tree {
             contact: options.contact_links.as_deref(),
             owner: vec![None; robot.links.len()],
             base_from_arm_root: Isometry3::identity(),
+            frozen_values: &options.frozen,
+            frozen: Vec::new(),
         };
         walk.visit(base_link)?;
+        if let Some(name) = options
+            .frozen
+            .keys()
+            .find(|name| !walk.frozen.iter().any(|f| &&f.name == name))
+        {
+            let reason = if arm.iter().any(|&j| &robot.joints[j].name == name) {
+                "an arm joint, not frozen"
+            } else {
+                "no movable joint off the arm has this name"
+            };
+            return Err(RobotError::InvalidFrozen {
+                joint: name.clone(),
+                reason: reason.to_owned(),
+            });
+        }
         for name in options.contact_links.iter().flatten() {
             let owner = self.links.get(name).map(|&l| walk.owner[l]);
             let reason = match owner {
@@ -243,6 +281,7 @@ impl Tree {
             links: walk.links,
             base_from_arm_root: walk.base_from_arm_root,
             last_from_tool,
+            frozen: walk.frozen,
         })
     }
 }
@@ -262,6 +301,10 @@ struct Walk<'a> {
     contact: Option<&'a [String]>,
     /// Collision meshes, each file loaded once (the scene importer's loader).
     meshes: MeshCache<'a>,
+    /// [`RobotImportOptions::frozen`].
+    frozen_values: &'a std::collections::BTreeMap<String, f64>,
+    /// The frozen joints met so far.
+    frozen: Vec<FrozenJoint>,
 }
 
 impl Walk<'_> {
@@ -307,16 +350,27 @@ impl Walk<'_> {
         let parent_from_child = match joint.joint_type {
             JointType::Fixed => origin,
             JointType::Revolute | JointType::Continuous | JointType::Prismatic => {
-                // Off the arm chain: allowed below the last arm joint (gripper fingers, mimic
-                // joints), where it is frozen at 0 clamped into its limits.
-                if owner != self.arm.len() {
-                    return Err(RobotError::BranchingChain {
-                        joint: joint.name.clone(),
-                        link: self.robot.links[parent].name.clone(),
-                    });
-                }
+                // Not an arm joint: frozen at its configured value, or 0 clamped into its
+                // limits.
                 let frozen = arm_joint(joint, origin, false)?;
-                frozen.parent_from_child(0.0_f64.clamp(frozen.lower, frozen.upper))
+                let value = match self.frozen_values.get(&joint.name) {
+                    Some(&v) if v.is_finite() && (frozen.lower..=frozen.upper).contains(&v) => v,
+                    Some(&v) => {
+                        return Err(RobotError::InvalidFrozen {
+                            joint: joint.name.clone(),
+                            reason: format!(
+                                "value {v} outside the limits [{}, {}]",
+                                frozen.lower, frozen.upper
+                            ),
+                        });
+                    }
+                    None => 0.0_f64.clamp(frozen.lower, frozen.upper),
+                };
+                self.frozen.push(FrozenJoint {
+                    name: joint.name.clone(),
+                    value,
+                });
+                frozen.parent_from_child(value)
             }
             JointType::Planar | JointType::Floating | JointType::Spherical => {
                 return Err(RobotError::UnsupportedJointType {
