@@ -25,9 +25,9 @@ const TILT: f64 = 1e-3;
 /// consecutive origins stay a fixed distance apart; a prismatic joint adds its travel).
 /// - **Shoulder**: `P_1`, or, when joint 1 is revolute about a vertical axis, `P_2`: it keeps
 ///   its height and stays within its distance from that axis (`shoulder_radius`).
-/// - **Wrist**: the first `P_k` fixed in the tool frame (within [`FIXED`]) whatever the joints do (the last
+/// - **Wrist**: the first `P_k` fixed in the tool frame (within 1 mm) whatever the joints do (the last
 ///   joint's origin always is; on an arm whose last axes meet, an earlier one: for the Gen3,
-///   joint 6's origin on joint 7's axis). Found by forward kinematics at [`SAMPLES`] seeded
+///   joint 6's origin on joint 7's axis). Found by forward kinematics at 16 seeded
 ///   configurations.
 /// - Twice the wrist point's movement over the samples, and the height change a slightly tilted
 ///   first axis allows, are added to `wrist_radius` (the bound's slack).
