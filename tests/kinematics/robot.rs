@@ -1134,3 +1134,53 @@ fn bad_srdfs_are_typed_errors() {
         Some(&[][..])
     );
 }
+
+/// The floor carries the base: the toy's base box spans z ∈ [0, 0.5], so it touches a floor
+/// slab whose top is z = 0, and that is no collision; a 1 cm kerb on the floor next to the
+/// box (top z = 0.01, above `GROUND_TOP`) is one, for the base link. The arm keeps the margin
+/// from the floor: with the arm straight out (j1 = j2 = 0) its lowest point is the capsule of
+/// `l1` at z = 0.6 − 0.03 = 0.57 by hand, so a 0.6 m margin reports an arm link and a 0.5 m
+/// margin nothing.
+#[test]
+fn the_base_may_stand_on_the_floor_and_the_arm_keeps_off_it() {
+    use kinscene::kinematics::robot::GROUND_TOP;
+    let robot = RobotModel::from_urdf_str(TOY).unwrap();
+    let collision = RobotCollision::new(&robot).unwrap();
+    let scene = |kerb: bool| {
+        let mut b = SceneModelBuilder::new();
+        b.add_base_shape(BaseShape::new(
+            "floor",
+            Shape::cuboid(Vector3::new(5.0, 5.0, 0.05)),
+            Isometry3::translation(0.0, 0.0, -0.05),
+        ));
+        if kerb {
+            // x ∈ [0.2, 0.3]: it touches the base box's face at x = 0.2.
+            b.add_base_shape(BaseShape::new(
+                "kerb",
+                Shape::cuboid(Vector3::new(0.05, 0.5, 0.005)),
+                Isometry3::translation(0.25, 0.0, 0.005),
+            ));
+        }
+        b.build().unwrap()
+    };
+    let poses = robot
+        .link_poses(&RobotConfig {
+            base: [0.0; 3],
+            arm: DVector::zeros(2),
+        })
+        .unwrap();
+    assert!(GROUND_TOP < 0.01);
+    let floor = scene(false);
+    let data = scene_data(&floor);
+    let hit = |margin| collision.scene_collision(&poses, &floor, &data, Exempt::Nothing, margin);
+    assert_eq!(hit(0.0), None);
+    assert_eq!(hit(0.5), None);
+    assert!(matches!(hit(0.6), Some((l, _)) if l > 0), "{:?}", hit(0.6));
+    let kerbed = scene(true);
+    let data = scene_data(&kerbed);
+    let kerb = kerbed.base_shape_id("kerb").unwrap();
+    assert_eq!(
+        collision.scene_collision(&poses, &kerbed, &data, Exempt::Nothing, 0.0),
+        Some((0, Body::Base(kerb)))
+    );
+}

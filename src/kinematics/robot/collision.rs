@@ -12,6 +12,9 @@
 //! `margin` of some scene shape (`distance <= margin`), so `margin = 0` makes touching a
 //! collision, as in [`crate::scene::collision::CollisionSettings`].
 //!
+//! **Floor.** The base links' shapes may touch scene shapes lying at or below the floor (top
+//! at most [`GROUND_TOP`]): wheels stand on the floor. Arm links keep the margin from it.
+//!
 //! **Grasp contact rule.** While the robot holds a handle, only the gripper's contact shapes
 //! (fingers and pads, [`RobotLink::contact`](super::RobotLink::contact)) may touch the grasped
 //! part and its descendants; every other shape keeps the margin from every body, the grasped
@@ -24,6 +27,12 @@ use super::{RobotConfig, RobotError, RobotModel};
 use crate::scene::collision::Body;
 use crate::scene::collision::geometry::{CompiledShape, Placed, WorldBox};
 use crate::scene::{BaseShapeId, PartId, SceneData, SceneModel};
+
+/// Highest top (m, world z) of a scene shape that counts as the floor the base drives on: the
+/// base links' shapes (wheels, casters) may touch such shapes; every other robot shape keeps
+/// the margin from them. The floor's top is z = 0 by the scene convention; 1 mm absorbs
+/// round-off in a floor slab's pose.
+pub const GROUND_TOP: f64 = 1e-3;
 
 /// Which scene bodies some robot shapes may touch in [`RobotCollision::scene_collision`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -249,11 +258,15 @@ impl RobotCollision {
             return None;
         }
         for (l, link) in placed.iter().enumerate() {
+            let base_link = self.base_links.contains(&l);
             let mut best: Option<(f64, Body)> = None;
             for (k, (robot_shape, robot_box)) in link.iter().enumerate() {
                 let contact = self.contact[l].get(k).copied().unwrap_or(false);
                 for (body, scene_shape, scene_box) in &candidates {
                     if contact && matches!(body, Body::Part(p) if grasped.contains(p)) {
+                        continue;
+                    }
+                    if base_link && scene_box.max.z <= GROUND_TOP {
                         continue;
                     }
                     if !robot_box.overlaps(scene_box)

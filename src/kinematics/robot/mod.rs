@@ -98,7 +98,7 @@ mod pinocchio;
 mod srdf;
 mod urdf;
 
-pub use collision::{Exempt, RobotCollision};
+pub use collision::{Exempt, GROUND_TOP, RobotCollision};
 pub use error::RobotError;
 pub use model::{
     ArmJoint, ArmJointKind, BaseKind, DEFAULT_BASE_ACCELERATION, DEFAULT_BASE_VELOCITY,
