@@ -883,8 +883,9 @@ fn plan_with_a_robot_srdf() {
     assert_eq!(doc["status"], "solved");
 }
 
-/// `--arm-root` and `--frozen` name what they get wrong (exit 2): a joint that is an arm joint
-/// of the Gen3, a value that is not a number, a link that is not on the arm's path.
+/// `--arm-root`, `--frozen` and `--contact-link` name what they get wrong (exit 2): a joint
+/// that is an arm joint of the Gen3, a link that is not on the arm's path, a contact link that
+/// does not move with the tool, a value that is not a number.
 #[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
 #[test]
 fn plan_with_frozen_joints_and_an_arm_root_checks_them() {
@@ -916,6 +917,9 @@ fn plan_with_frozen_joints_and_an_arm_root_checks_them() {
     );
     let line = assert_bad_input(&run("--arm-root", "no_such_link"));
     assert!(line.contains("no_such_link"), "{line}");
+    // A contact link that does not move with the tool.
+    let line = assert_bad_input(&run("--contact-link", "Shoulder_Link"));
+    assert!(line.contains("Shoulder_Link"), "{line}");
     // clap's usage error for a value that is not a number.
     assert_eq!(run("--frozen", "Actuator1=fast").status.code(), Some(2));
 }

@@ -1169,7 +1169,7 @@ fn the_base_may_stand_on_the_floor_and_the_arm_keeps_off_it() {
             arm: DVector::zeros(2),
         })
         .unwrap();
-    assert!(GROUND_TOP < 0.01);
+    const { assert!(GROUND_TOP < 0.01) };
     let floor = scene(false);
     let data = scene_data(&floor);
     let hit = |margin| collision.scene_collision(&poses, &floor, &data, Exempt::Nothing, margin);
@@ -1182,5 +1182,119 @@ fn the_base_may_stand_on_the_floor_and_the_arm_keeps_off_it() {
     assert_eq!(
         collision.scene_collision(&poses, &kerbed, &data, Exempt::Nothing, 0.0),
         Some((0, Body::Base(kerb)))
+    );
+}
+
+/// The computed stow of the toy: its footprint is set by the base box's corners (0.2·√2 =
+/// 0.283 m), `l1`'s capsule (bounding sphere: centre 0.15 m out, radius 0.15 + 0.03, so 0.33
+/// m whatever j1 is) and `l2`'s ball (0.3 + 0.1 cos j2 + 0.03 m), so the smallest footprint is
+/// 0.33 m, reached with |j2| ≥ π/2 (by hand). The search finds it; the configuration is free
+/// of self-collision and the footprint radius follows. A floor clearance no configuration
+/// meets is `NoStow`; bad settings are typed errors.
+#[test]
+fn a_computed_stow_is_the_most_compact_free_configuration() {
+    use kinscene::kinematics::robot::StowSearch;
+    let search = StowSearch {
+        samples: 300,
+        ..StowSearch::default()
+    };
+    let robot = RobotModel::from_urdf_str(TOY)
+        .unwrap()
+        .with_computed_stow(&search)
+        .unwrap();
+    let stow = robot.neutral();
+    assert!(
+        (robot.base().footprint_radius - 0.33).abs() < 1e-9,
+        "{stow}"
+    );
+    assert!(
+        stow[1].abs() >= std::f64::consts::FRAC_PI_2 - 1e-9,
+        "{stow}"
+    );
+    let poses = robot
+        .link_poses(&RobotConfig {
+            base: [0.0; 3],
+            arm: stow,
+        })
+        .unwrap();
+    assert_eq!(
+        RobotCollision::new(&robot).unwrap().self_collision(&poses),
+        None
+    );
+    let too_high = StowSearch {
+        floor_clearance: 10.0,
+        ..search.clone()
+    };
+    assert!(matches!(
+        RobotModel::from_urdf_str(TOY)
+            .unwrap()
+            .with_computed_stow(&too_high),
+        Err(RobotError::NoStow { samples: 300 })
+    ));
+    for bad in [
+        StowSearch {
+            samples: 0,
+            ..search.clone()
+        },
+        StowSearch {
+            perturbation: f64::NAN,
+            ..search.clone()
+        },
+    ] {
+        assert!(matches!(
+            RobotModel::from_urdf_str(TOY)
+                .unwrap()
+                .with_computed_stow(&bad),
+            Err(RobotError::InvalidSetting { .. })
+        ));
+    }
+}
+
+/// The Gen3 from its URDF alone (arm straight up at q = 0, inside the chassis' footprint but
+/// 1.5 m tall): the computed stow folds the arm within a footprint no larger than the
+/// hand-found stow's, about as low (highest link origin within 5 cm of it), and free of
+/// self-collision under the shipped exemptions (adjacent pairs only).
+#[test]
+fn the_gen3_computed_stow_is_as_compact_as_the_hand_found_one() {
+    use kinscene::kinematics::robot::StowSearch;
+    let shipped = RobotModel::kinova_gen3_mobile();
+    let computed = gen3_urdf_only()
+        .with_computed_stow(&StowSearch {
+            samples: 1000,
+            ..StowSearch::default()
+        })
+        .unwrap();
+    let (a, b) = (
+        computed.base().footprint_radius,
+        shipped.base().footprint_radius,
+    );
+    assert!(a <= b + 1e-9, "computed {a} hand-found {b}");
+    // The arm's highest point: the tool frame's height bounds it from below, so compare the
+    // highest link origin (FK, not the search's boxes).
+    let top = |q: DVector<f64>| {
+        shipped
+            .link_poses(&RobotConfig {
+                base: [0.0; 3],
+                arm: q,
+            })
+            .unwrap()
+            .iter()
+            .map(|p| p.translation.z)
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
+    let (ta, tb) = (top(computed.neutral()), top(shipped.neutral()));
+    // Measured: 1.102 m against 1.072 m (the straight-up arm: 1.5 m).
+    assert!(ta <= tb + 0.05, "computed {ta} hand-found {tb}");
+    let poses = shipped
+        .link_poses(&RobotConfig {
+            base: [0.0; 3],
+            arm: computed.neutral(),
+        })
+        .unwrap();
+    assert_eq!(
+        RobotCollision::new(&shipped)
+            .unwrap()
+            .self_collision(&poses),
+        None
     );
 }

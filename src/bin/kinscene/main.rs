@@ -5,7 +5,7 @@
 //! kinscene plan     --scene S.urdf --goal G.toml [--budget 10s] [--out plan.json]
 //!                   [--strategy search|random|paper] [--seed N] [--robot URDF|gen3]
 //!                   [--tool-link LINK] [--srdf FILE] [--arm-root LINK]
-//!                   [--frozen JOINT=VALUE ...]
+//!                   [--frozen JOINT=VALUE ...] [--contact-link LINK ...]
 //!                   [--package NAME=PATH ...]
 //! kinscene validate --scene S.urdf --goal G.toml --plan plan.json [--package NAME=PATH ...]
 //! ```

@@ -26,6 +26,8 @@ pub struct RobotArgs<'a> {
     pub arm_root: Option<&'a str>,
     /// Values of frozen joints.
     pub frozen: &'a [(String, f64)],
+    /// The gripper's contact links (empty: the naming convention).
+    pub contact_links: &'a [String],
     /// `package://NAME` roots for the robot's meshes.
     pub packages: &'a [(String, std::path::PathBuf)],
 }
@@ -57,7 +59,9 @@ pub fn run(
 #[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
 mod imp {
     use super::*;
-    use kinscene::kinematics::robot::{PairSampling, RobotImportOptions, RobotModel, Srdf};
+    use kinscene::kinematics::robot::{
+        PairSampling, RobotImportOptions, RobotModel, Srdf, StowSearch,
+    };
     use kinscene::planner::{
         HierarchicalPlanner, MotionDocument, MotionOutcome, PlannerError, PlannerSettings,
     };
@@ -80,9 +84,10 @@ mod imp {
                 || robot.srdf.is_some()
                 || robot.arm_root.is_some()
                 || !robot.frozen.is_empty()
+                || !robot.contact_links.is_empty()
             {
                 return Err(CliError::new(
-                    "--tool-link, --srdf, --arm-root and --frozen apply to a robot URDF, not the shipped gen3",
+                    "--tool-link, --srdf, --arm-root, --frozen and --contact-link apply to a robot URDF, not the shipped gen3",
                 ));
             }
             RobotModel::kinova_gen3_mobile()
@@ -94,6 +99,9 @@ mod imp {
             options.package_paths = robot.packages.iter().cloned().collect();
             options.arm_root = robot.arm_root.map(str::to_owned);
             options.frozen = robot.frozen.iter().cloned().collect();
+            if !robot.contact_links.is_empty() {
+                options.contact_links = Some(robot.contact_links.to_vec());
+            }
             let loaded = RobotModel::from_urdf_file_with(robot.path, &options)
                 .map_err(|e| CliError::new(format!("{}: {e}", robot.path.display())))?;
             match robot.srdf {
@@ -110,10 +118,18 @@ mod imp {
                             unknown.join(", ")
                         );
                     }
-                    loaded.with_srdf(&srdf).map_err(at)?
+                    let described = loaded.with_srdf(&srdf).map_err(at)?;
+                    if srdf.stow_state().is_some() {
+                        described
+                    } else {
+                        described
+                            .with_computed_stow(&StowSearch::default())
+                            .map_err(at)?
+                    }
                 }
                 None => loaded
-                    .with_sampled_pairs(&PairSampling::default())
+                    .with_computed_stow(&StowSearch::default())
+                    .and_then(|r| r.with_sampled_pairs(&PairSampling::default()))
                     .map_err(|e| CliError::new(format!("{}: {e}", robot.path.display())))?,
             }
         };

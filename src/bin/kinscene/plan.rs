@@ -1,6 +1,6 @@
 //! `kinscene plan --scene S.urdf --goal G.toml [--budget 10s] [--out plan.json]
 //! [--strategy search|random|paper] [--seed N] [--robot URDF|gen3] [--tool-link LINK] [--srdf FILE]
-//! [--arm-root LINK] [--frozen JOINT=VALUE ...]
+//! [--arm-root LINK] [--frozen JOINT=VALUE ...] [--contact-link LINK ...]
 //! [--package NAME=PATH ...]`:
 //! plans the order of single-joint changes that reaches a goal ([`kinscene::task::plan`]) and
 //! writes the plan document. With `--robot`, the hierarchical planner refines the order into
@@ -102,7 +102,9 @@ pub struct Args {
     /// With a robot URDF: its SRDF, for the self-collision exemptions (`disable_collisions`)
     /// and the stowed configuration (the first `group_state` named stow, tuck, transport, home
     /// or ready). Without it the exemptions are computed by sampling (adjacent links, and
-    /// pairs touching in 95 % of 2 000 random configurations or at the stow).
+    /// pairs touching in 95 % of 2 000 random configurations or at the stow). Without a stow
+    /// state, the stow is computed: the most compact arm configuration clear of itself and
+    /// of the floor.
     #[arg(long, value_name = "FILE", requires = "robot")]
     srdf: Option<PathBuf>,
     /// With a robot URDF: the link the arm starts at; movable joints above it on the way from
@@ -113,6 +115,11 @@ pub struct Args {
     /// fingers) at VALUE (rad or m; repeatable) [default: 0 clamped into its limits].
     #[arg(long = "frozen", value_name = "JOINT=VALUE", value_parser = parse_frozen, requires = "robot")]
     frozen: Vec<(String, f64)>,
+    /// With a robot URDF: a link whose collision elements may touch the grasped part (the
+    /// gripper's fingers and pads; repeatable) [default: links and elements below the last
+    /// arm joint whose name contains `finger` or `pad`].
+    #[arg(long = "contact-link", value_name = "LINK", requires = "robot")]
+    contact_links: Vec<String>,
 }
 
 /// Parses `JOINT=VALUE`.
@@ -195,6 +202,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<Verdict, CliError> {
             srdf: args.srdf.as_deref(),
             arm_root: args.arm_root.as_deref(),
             frozen: &args.frozen,
+            contact_links: &args.contact_links,
             packages: &args.input.packages,
         };
         return crate::motion::run(

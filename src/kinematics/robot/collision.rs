@@ -309,6 +309,30 @@ impl RobotCollision {
         &self.base_links
     }
 
+    /// The lowest world z of the shapes of links `first..` at `link_poses` (their world
+    /// boxes; `+∞` without shapes).
+    pub(super) fn lowest_z(&self, link_poses: &[Isometry3<f64>], first: usize) -> f64 {
+        (first..self.shapes.len().min(link_poses.len()))
+            .flat_map(|l| {
+                self.shapes[l]
+                    .iter()
+                    .map(move |s| s.world_box(&link_poses[l]).min.z)
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The highest world z of the shapes of links `first..` at `link_poses` (their world
+    /// boxes; `−∞` without shapes).
+    pub(super) fn highest_z(&self, link_poses: &[Isometry3<f64>], first: usize) -> f64 {
+        (first..self.shapes.len().min(link_poses.len()))
+            .flat_map(|l| {
+                self.shapes[l]
+                    .iter()
+                    .map(move |s| s.world_box(&link_poses[l]).max.z)
+            })
+            .fold(f64::NEG_INFINITY, f64::max)
+    }
+
     /// Every pair `(i, j)`, `i < j`, of links with shapes whose shapes touch or overlap at
     /// `link_poses`, exempt or not.
     pub(super) fn touching_pairs(&self, link_poses: &[Isometry3<f64>]) -> Vec<(usize, usize)> {

@@ -188,6 +188,15 @@ pub enum RobotError {
         /// The value given.
         value: f64,
     },
+    /// No sampled arm configuration is free of self-collision and clear of the floor
+    /// ([`RobotModel::with_computed_stow`](super::RobotModel::with_computed_stow)).
+    #[error(
+        "no stowed configuration found: none of {samples} sampled arm configurations is free of self-collision and clear of the floor"
+    )]
+    NoStow {
+        /// Configurations tried.
+        samples: usize,
+    },
     /// The SRDF is not well-formed, or an element lacks what it needs.
     #[error("robot SRDF {element}: {message}")]
     Srdf {

@@ -96,6 +96,7 @@ mod model;
 mod pairs;
 mod pinocchio;
 mod srdf;
+mod stow;
 mod urdf;
 
 pub use collision::{Exempt, GROUND_TOP, RobotCollision};
@@ -108,3 +109,4 @@ pub use model::{
 pub use pairs::{AllowedPair, PairReason, PairSampling};
 pub use pinocchio::TOOL_FRAME;
 pub use srdf::{DisabledPair, GroupState, Srdf, SrdfGroup};
+pub use stow::StowSearch;

@@ -543,9 +543,25 @@ impl RobotModel {
     /// The radius of the vertical cylinder about the base origin enclosing every collider at
     /// the neutral configuration (bounding spheres, so slightly conservative for boxes).
     fn footprint_at_neutral(&self) -> f64 {
+        self.footprint_at(&self.neutral)
+    }
+
+    /// The largest horizontal distance of the base link's colliders from the base's vertical
+    /// axis: the chassis alone, whatever the arm does.
+    pub(super) fn base_radius(&self) -> f64 {
+        self.links[0]
+            .colliders
+            .iter()
+            .map(|c| horizontal_reach(c, &Isometry3::identity()))
+            .fold(0.0, f64::max)
+    }
+
+    /// The footprint radius with the arm at `arm`: the largest horizontal distance of any
+    /// collider from the base's vertical axis (0 for a configuration of the wrong size).
+    pub(super) fn footprint_at(&self, arm: &DVector<f64>) -> f64 {
         let config = RobotConfig {
             base: [0.0; 3],
-            arm: self.neutral.clone(),
+            arm: arm.clone(),
         };
         let Ok(poses) = self.link_poses(&config) else {
             return 0.0;

@@ -186,6 +186,17 @@ impl RobotModel {
     /// [`RobotError::InvalidSetting`] for no samples or a fraction outside (0, 1];
     /// [`RobotCollision::new`]'s errors.
     pub fn with_sampled_pairs(self, sampling: &PairSampling) -> Result<RobotModel, RobotError> {
+        let pairs = self.sampled_pairs(sampling, true)?;
+        self.with_allowed_pairs(pairs)
+    }
+
+    /// The exemptions of [`RobotModel::with_sampled_pairs`]; the pairs touching at the neutral
+    /// configuration only if `at_neutral`.
+    pub(super) fn sampled_pairs(
+        &self,
+        sampling: &PairSampling,
+        at_neutral: bool,
+    ) -> Result<Vec<AllowedPair>, RobotError> {
         if sampling.samples == 0 {
             return Err(RobotError::InvalidSetting {
                 what: "pair sampling samples",
@@ -230,7 +241,11 @@ impl RobotModel {
             base: [0.0; 3],
             arm: self.neutral.clone(),
         })?;
-        let at_neutral = collision.touching_pairs(&neutral);
+        let touching_at_neutral = if at_neutral {
+            collision.touching_pairs(&neutral)
+        } else {
+            Vec::new()
+        };
         let has_shapes: Vec<bool> = self.links.iter().map(|l| !l.colliders.is_empty()).collect();
         let mut pairs = Vec::new();
         for i in 0..n {
@@ -241,7 +256,7 @@ impl RobotModel {
                 let fraction = counts[i * n + j] as f64 / sampling.samples as f64;
                 let reason = if j == i + 1 {
                     PairReason::Adjacent
-                } else if at_neutral.contains(&(i, j)) {
+                } else if touching_at_neutral.contains(&(i, j)) {
                     PairReason::Default
                 } else if fraction >= sampling.always_fraction {
                     PairReason::Always
@@ -257,7 +272,7 @@ impl RobotModel {
                 });
             }
         }
-        self.with_allowed_pairs(pairs)
+        Ok(pairs)
     }
 
     /// The robot's semantic description as an SRDF: a group `arm` (the chain from the base
