@@ -158,6 +158,7 @@ mod scan;
 mod tree;
 mod xml;
 
+#[cfg(feature = "pinocchio")]
 pub(crate) use xml::escape as escape_attribute;
 
 pub use export::{write_file, write_string};
