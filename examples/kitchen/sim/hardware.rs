@@ -142,33 +142,47 @@ impl SimWorld {
             return Err(failure("grasp target is not finite"));
         }
         self.physics.detach();
-        let Some(q) = self.robot.solve(point, approach, &self.robot.arm, false) else {
-            return Err(HardwareFailure::Unreachable);
-        };
-        let poses = self
-            .robot
-            .link_poses_at(self.robot.base, &q)
-            .map_err(|e| failure(e.to_string()))?;
-        if self.robot.self_hit(&poses).is_some() {
-            return Err(HardwareFailure::SelfCollision);
-        }
-        // The part the gripper reaches for may touch the arm; nothing else may.
+        // The part the gripper reaches for may touch the arm; nothing else may. The first IK
+        // solution that keeps to that is taken; without one, the first solution's failure.
         let ignore = self
             .nearest_handle(point)
             .filter(|(_, _, d)| *d <= 2.0 * GRASP_TOLERANCE)
             .map(|(k, _, _)| self.subtree_ids(k))
             .unwrap_or_default();
         let (_, data) = self.true_data();
-        if let Some((link, body)) = self
-            .robot
-            .scene_hit(&poses, &self.truth, &data, &ignore, true)
-        {
-            return Err(failure(format!(
-                "the arm's {} would touch {}",
-                self.link_name(link),
-                self.body_name(body)
-            )));
+        let mut first_failure = None;
+        let mut accepted = None;
+        for q in self.robot.solutions(point, approach, &self.robot.arm) {
+            let poses = self
+                .robot
+                .link_poses_at(self.robot.base, &q)
+                .map_err(|e| failure(e.to_string()))?;
+            let failed = if self.robot.self_hit(&poses).is_some() {
+                Some(HardwareFailure::SelfCollision)
+            } else {
+                self.robot
+                    .scene_hit(&poses, &self.truth, &data, &ignore, true)
+                    .map(|(link, body)| {
+                        failure(format!(
+                            "the arm's {} would touch {}",
+                            self.link_name(link),
+                            self.body_name(body)
+                        ))
+                    })
+            };
+            match failed {
+                None => {
+                    accepted = Some(q);
+                    break;
+                }
+                Some(f) => {
+                    first_failure.get_or_insert(f);
+                }
+            }
         }
+        let Some(q) = accepted else {
+            return Err(first_failure.unwrap_or(HardwareFailure::Unreachable));
+        };
         self.clock.arm += self.robot.arm_time(&self.robot.arm, &q);
         self.robot.arm = q;
         self.sync_robot().map_err(|e| failure(e.to_string()))?;

@@ -17,6 +17,12 @@ const IK_RESTARTS: usize = 20;
 /// decides an outcome (the simulation must not depend on the machine's speed).
 const IK_BUDGET: Duration = Duration::from_secs(60);
 
+/// Further IK seeds a grasp tries when the solution from the current arm touches the robot
+/// itself or the scene: drawn uniformly within the joint limits from a fixed stream, so the
+/// simulation stays deterministic. A controller that checks its IK solutions for collision
+/// does the same.
+const GRASP_SEEDS: u64 = 8;
+
 /// The robot: model, solvers and current configuration.
 pub(super) struct Robot {
     /// The robot model.
@@ -141,6 +147,40 @@ impl Robot {
             Ok(IkOutcome::Converged { q, .. }) => Some(q),
             _ => None,
         }
+    }
+
+    /// IK solutions placing the tool at `point` with tool z along `axis`, lazily: from `seed`
+    /// with restarts (as [`Robot::solve`]), then from each of [`GRASP_SEEDS`] configurations
+    /// drawn within the limits; the caller takes the first it accepts.
+    pub(super) fn solutions<'a>(
+        &'a self,
+        point: &'a Point3<f64>,
+        axis: &'a Unit<Vector3<f64>>,
+        seed: &'a DVector<f64>,
+    ) -> impl Iterator<Item = DVector<f64>> + 'a {
+        use rand::{Rng, SeedableRng};
+        (0..=GRASP_SEEDS).filter_map(move |k| {
+            if k == 0 {
+                return self.solve(point, axis, seed, false);
+            }
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(k);
+            let start = DVector::from_iterator(
+                seed.len(),
+                self.model
+                    .arm_joints()
+                    .iter()
+                    .zip(seed.iter())
+                    .map(|(j, &q)| {
+                        let (lo, hi) = if j.lower.is_finite() && j.upper.is_finite() {
+                            (j.lower, j.upper)
+                        } else {
+                            (q - std::f64::consts::PI, q + std::f64::consts::PI)
+                        };
+                        rng.random_range(lo..=hi)
+                    }),
+            );
+            self.solve(point, axis, &start, false)
+        })
     }
 
     /// The first pair of robot links in contact at `poses`, if any.

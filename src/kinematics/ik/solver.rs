@@ -91,10 +91,9 @@ enum Coordinate {
 /// ranges over the velocity coordinates of the joints that move the frame (the others have
 /// zero Jacobian columns and no pull, so their step is 0 and they keep the seed's values).
 ///
-/// **The step's solver** ([`IkSettings::step_solver`]). Clarabel's interior-point method by
-/// default, or, with [`StepSolver::Dense`](super::StepSolver::Dense), a dense active-set method
-/// on the bounds: with no bound active the minimiser is the damped-least-squares step
-/// `(JᵀJ + λI)⁻¹ Jᵀe`, one Cholesky factorisation of an n × n matrix (n ≤ ~10, well under a
+/// **The step's solver** ([`IkSettings::step_solver`]). By default
+/// ([`StepSolver::Dense`](super::StepSolver::Dense)) a dense active-set method on the bounds:
+/// with no bound active the minimiser is the damped-least-squares step `(JᵀJ + λI)⁻¹ Jᵀe`, one Cholesky factorisation of an n × n matrix (n ≤ ~10, well under a
 /// microsecond); a bound that the step would cross is fixed there and the rest re-solved, and
 /// the result is taken only with its KKT certificate (the QP is strictly convex, so that makes
 /// it the minimiser). When no certificate comes within a few rounds the step falls back to
