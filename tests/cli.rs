@@ -779,29 +779,40 @@ fn breakfast_with_the_gen3_is_infeasible_with_the_reach_in_numbers() {
     );
 }
 
+/// `kinscene plan` on the counter scene with the drawer goal (scratch files named by `tag`),
+/// `--robot robot` and then `args`.
+#[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
+fn plan_counter_with(tag: &str, robot: &str, args: &[&str]) -> Output {
+    let scene = scratch_file(&format!("counter_{tag}.urdf"), COUNTER_URDF);
+    let goal = scratch_file(
+        &format!("counter_goal_{tag}.toml"),
+        "[goal]\ndrawer_slide = { min = 0.25 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
+    );
+    let mut all = vec![
+        "plan",
+        "--scene",
+        arg(&scene),
+        "--goal",
+        arg(&goal),
+        "--robot",
+        robot,
+    ];
+    all.extend_from_slice(args);
+    kinscene(&all)
+}
+
+/// The shipped Gen3's URDF file.
+#[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
+fn gen3_urdf() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/kinova_gen3_mobile.urdf")
+}
+
 #[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
 #[test]
 fn the_tool_link_of_a_robot_urdf_is_named_on_the_command_line() {
-    let scene = scratch_file("counter3.urdf", COUNTER_URDF);
-    let goal = scratch_file(
-        "counter_goal3.toml",
-        "[goal]\ndrawer_slide = { min = 0.25 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
-    );
-    let urdf = Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/kinova_gen3_mobile.urdf");
+    let urdf = gen3_urdf();
     let run = |robot: &str, link: &str| {
-        kinscene(&[
-            "plan",
-            "--scene",
-            arg(&scene),
-            "--goal",
-            arg(&goal),
-            "--robot",
-            robot,
-            "--tool-link",
-            link,
-            "--budget",
-            "1s",
-        ])
+        plan_counter_with("tool", robot, &["--tool-link", link, "--budget", "1s"])
     };
     // A link the URDF does not have: bad input naming it.
     let line = assert_bad_input(&run(arg(&urdf), "no_such_link"));
@@ -810,12 +821,13 @@ fn the_tool_link_of_a_robot_urdf_is_named_on_the_command_line() {
     let line = assert_bad_input(&run("gen3", "end_effector_link"));
     assert!(line.contains("--tool-link"), "{line}");
     // Without a robot the flag means nothing (clap's usage error).
+    let scene = scratch_file("counter_tool.urdf", COUNTER_URDF);
     let output = kinscene(&[
         "plan",
         "--scene",
         arg(&scene),
         "--goal",
-        arg(&goal),
+        "g.toml",
         "--tool-link",
         "x",
     ]);
@@ -836,29 +848,13 @@ fn the_tool_link_of_a_robot_urdf_is_named_on_the_command_line() {
 #[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
 #[test]
 fn plan_with_a_robot_srdf() {
-    let scene = scratch_file("counter_srdf.urdf", COUNTER_URDF);
-    let goal = scratch_file(
-        "counter_goal_srdf.toml",
-        "[goal]\ndrawer_slide = { min = 0.25 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
-    );
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let urdf = root.join("robots/kinova_gen3_mobile.urdf");
+    let urdf = gen3_urdf();
     let run = |robot: &str, srdf: &str| {
-        kinscene(&[
-            "plan",
-            "--scene",
-            arg(&scene),
-            "--goal",
-            arg(&goal),
-            "--robot",
+        plan_counter_with(
+            "srdf",
             robot,
-            "--srdf",
-            srdf,
-            "--budget",
-            "60s",
-            "--seed",
-            "1",
-        ])
+            &["--srdf", srdf, "--budget", "60s", "--seed", "1"],
+        )
     };
     let bad = scratch_file(
         "bad.srdf",
@@ -869,7 +865,7 @@ fn plan_with_a_robot_srdf() {
         line.contains("disable_collisions") && line.contains("link2"),
         "{line}"
     );
-    let srdf = root.join("robots/kinova_gen3_mobile.srdf");
+    let srdf = Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/kinova_gen3_mobile.srdf");
     let line = assert_bad_input(&run("gen3", arg(&srdf)));
     assert!(line.contains("--srdf"), "{line}");
     let output = run(arg(&urdf), arg(&srdf));
@@ -889,26 +885,9 @@ fn plan_with_a_robot_srdf() {
 #[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
 #[test]
 fn plan_with_frozen_joints_and_an_arm_root_checks_them() {
-    let scene = scratch_file("counter_frozen.urdf", COUNTER_URDF);
-    let goal = scratch_file(
-        "counter_goal_frozen.toml",
-        "[goal]\ndrawer_slide = { min = 0.25 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
-    );
-    let urdf = Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/kinova_gen3_mobile.urdf");
+    let urdf = gen3_urdf();
     let run = |flag: &str, value: &str| {
-        kinscene(&[
-            "plan",
-            "--scene",
-            arg(&scene),
-            "--goal",
-            arg(&goal),
-            "--robot",
-            arg(&urdf),
-            flag,
-            value,
-            "--budget",
-            "1s",
-        ])
+        plan_counter_with("frozen", arg(&urdf), &[flag, value, "--budget", "1s"])
     };
     let line = assert_bad_input(&run("--frozen", "Actuator1=0"));
     assert!(
