@@ -1298,3 +1298,43 @@ fn the_gen3_computed_stow_is_as_compact_as_the_hand_found_one() {
         None
     );
 }
+
+/// `tool_approach` turns the tool frame so that its +z is the given direction of the tool
+/// link: on the toy at q = 0 every frame is aligned with the world, so the approach is the
+/// world's x for (1, 0, 0) and −z for (0, 0, −1) (the opposite of the default, a half turn),
+/// and the tool's position does not move (0.5 m out, 0.6 m up, by hand). A zero or NaN
+/// direction is a typed error.
+#[test]
+fn the_tool_approach_turns_the_tool_frame() {
+    let with = |axis: [f64; 3]| {
+        RobotModel::from_urdf_str_with(
+            TOY,
+            &RobotImportOptions {
+                tool_approach: Some(axis),
+                ..RobotImportOptions::default()
+            },
+        )
+    };
+    let zero = RobotConfig {
+        base: [0.0; 3],
+        arm: DVector::zeros(2),
+    };
+    for (axis, expected) in [
+        ([1.0, 0.0, 0.0], Vector3::x()),
+        ([0.0, 0.0, -2.0], -Vector3::z()),
+        ([0.0, 0.0, 1.0], Vector3::z()),
+    ] {
+        let tool = with(axis).unwrap().world_from_tool(&zero).unwrap();
+        assert!(
+            ((tool.rotation * Vector3::z()) - expected).norm() < 1e-12,
+            "{axis:?}"
+        );
+        assert!((tool.translation.vector - Vector3::new(0.5, 0.0, 0.6)).norm() < 1e-12);
+    }
+    for bad in [[0.0; 3], [f64::NAN, 0.0, 1.0]] {
+        assert!(matches!(
+            with(bad),
+            Err(RobotError::InvalidToolApproach { .. })
+        ));
+    }
+}

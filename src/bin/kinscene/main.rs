@@ -6,6 +6,7 @@
 //!                   [--strategy search|random|paper] [--seed N] [--robot URDF|gen3]
 //!                   [--tool-link LINK] [--srdf FILE] [--arm-root LINK]
 //!                   [--frozen JOINT=VALUE ...] [--contact-link LINK ...]
+//!                   [--tool-approach X,Y,Z]
 //!                   [--package NAME=PATH ...]
 //! kinscene validate --scene S.urdf --goal G.toml --plan plan.json [--package NAME=PATH ...]
 //! ```
@@ -104,7 +105,7 @@ enum Command {
     // `kinscene inspect`: print a scene URDF's joints, handles, base shapes and grid as JSON.
     Inspect(inspect::Args),
     // `kinscene plan`: plan the order of single-joint changes that reaches a goal.
-    Plan(plan::Args),
+    Plan(Box<plan::Args>),
     // `kinscene validate`: replay a plan with dense independent checks.
     Validate(validate::Args),
 }

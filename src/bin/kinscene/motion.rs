@@ -28,6 +28,8 @@ pub struct RobotArgs<'a> {
     pub frozen: &'a [(String, f64)],
     /// The gripper's contact links (empty: the naming convention).
     pub contact_links: &'a [String],
+    /// The approach direction in the tool link's frame (`None`: +z).
+    pub tool_approach: Option<[f64; 3]>,
     /// `package://NAME` roots for the robot's meshes.
     pub packages: &'a [(String, std::path::PathBuf)],
 }
@@ -85,9 +87,10 @@ mod imp {
                 || robot.arm_root.is_some()
                 || !robot.frozen.is_empty()
                 || !robot.contact_links.is_empty()
+                || robot.tool_approach.is_some()
             {
                 return Err(CliError::new(
-                    "--tool-link, --srdf, --arm-root, --frozen and --contact-link apply to a robot URDF, not the shipped gen3",
+                    "--tool-link, --tool-approach, --srdf, --arm-root, --frozen and --contact-link apply to a robot URDF, not the shipped gen3",
                 ));
             }
             RobotModel::kinova_gen3_mobile()
@@ -99,6 +102,7 @@ mod imp {
             options.package_paths = robot.packages.iter().cloned().collect();
             options.arm_root = robot.arm_root.map(str::to_owned);
             options.frozen = robot.frozen.iter().cloned().collect();
+            options.tool_approach = robot.tool_approach;
             if !robot.contact_links.is_empty() {
                 options.contact_links = Some(robot.contact_links.to_vec());
             }

@@ -1,6 +1,6 @@
 //! `kinscene plan --scene S.urdf --goal G.toml [--budget 10s] [--out plan.json]
 //! [--strategy search|random|paper] [--seed N] [--robot URDF|gen3] [--tool-link LINK] [--srdf FILE]
-//! [--arm-root LINK] [--frozen JOINT=VALUE ...] [--contact-link LINK ...]
+//! [--arm-root LINK] [--frozen JOINT=VALUE ...] [--contact-link LINK ...] [--tool-approach X,Y,Z]
 //! [--package NAME=PATH ...]`:
 //! plans the order of single-joint changes that reaches a goal ([`kinscene::task::plan`]) and
 //! writes the plan document. With `--robot`, the hierarchical planner refines the order into
@@ -115,11 +115,27 @@ pub struct Args {
     /// fingers) at VALUE (rad or m; repeatable) [default: 0 clamped into its limits].
     #[arg(long = "frozen", value_name = "JOINT=VALUE", value_parser = parse_frozen, requires = "robot")]
     frozen: Vec<(String, f64)>,
+    /// With a robot URDF: the approach direction in the tool link's frame when it is not +z
+    /// (e.g. `1,0,0` for a hand whose fingers point along its x).
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_direction, requires = "robot")]
+    tool_approach: Option<[f64; 3]>,
     /// With a robot URDF: a link whose collision elements may touch the grasped part (the
     /// gripper's fingers and pads; repeatable) [default: links and elements below the last
     /// arm joint whose name contains `finger` or `pad`].
     #[arg(long = "contact-link", value_name = "LINK", requires = "robot")]
     contact_links: Vec<String>,
+}
+
+/// Parses `X,Y,Z`.
+fn parse_direction(s: &str) -> Result<[f64; 3], String> {
+    let parts: Vec<Option<f64>> = s
+        .split(',')
+        .map(|p| p.trim().parse::<f64>().ok().filter(|v| v.is_finite()))
+        .collect();
+    match parts.as_slice() {
+        [Some(x), Some(y), Some(z)] => Ok([*x, *y, *z]),
+        _ => Err(format!("expected X,Y,Z (three finite numbers), got {s:?}")),
+    }
 }
 
 /// Parses `JOINT=VALUE`.
@@ -203,6 +219,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<Verdict, CliError> {
             arm_root: args.arm_root.as_deref(),
             frozen: &args.frozen,
             contact_links: &args.contact_links,
+            tool_approach: args.tool_approach,
             packages: &args.input.packages,
         };
         return crate::motion::run(

@@ -78,6 +78,13 @@ pub enum RobotError {
         /// What is wrong.
         reason: String,
     },
+    /// [`RobotImportOptions::tool_approach`](super::RobotImportOptions::tool_approach) is zero
+    /// or not finite.
+    #[error("robot tool approach {axis:?} is invalid (must be finite and non-zero)")]
+    InvalidToolApproach {
+        /// The direction given.
+        axis: [f64; 3],
+    },
     /// A joint axis is zero or not finite.
     #[error("robot URDF joint {joint:?}: invalid axis {axis:?} (must be finite and non-zero)")]
     InvalidAxis {

@@ -174,6 +174,10 @@ pub struct RobotImportOptions {
     /// the movable joints above it (a torso lift, say) are frozen like the joints off the
     /// path ([`RobotImportOptions::frozen`]).
     pub arm_root: Option<String>,
+    /// The approach direction in the tool link's frame, when it is not the link's +z (a hand
+    /// whose fingers point along its x, say): the tool frame is then the tool link's frame
+    /// turned so that its +z is this direction. Default `None`.
+    pub tool_approach: Option<[f64; 3]>,
     /// Values (rad or m) of movable joints that are not arm joints: a head, wheels, a second
     /// arm, fingers, joints above [`RobotImportOptions::arm_root`]. Such a joint is frozen at
     /// its value here, or at 0 clamped into its limits, and its links stay in the collision
@@ -189,6 +193,7 @@ impl Default for RobotImportOptions {
             package_paths: BTreeMap::new(),
             base_dir: None,
             arm_root: None,
+            tool_approach: None,
             frozen: BTreeMap::new(),
         }
     }

@@ -271,10 +271,11 @@ impl Tree {
                 reason: reason.to_owned(),
             });
         }
-        let (owner, last_from_tool) = walk.owner[tool].ok_or_else(|| RobotError::NotATree {
+        let (owner, last_from_link) = walk.owner[tool].ok_or_else(|| RobotError::NotATree {
             reason: format!("tool link {:?} is not below the base", options.tool_link),
         })?;
         debug_assert_eq!(owner, arm.len());
+        let last_from_tool = last_from_link * approach_rotation(options)?;
         Ok(Parsed {
             name: robot.name.clone(),
             joints: walk.joints,
@@ -474,6 +475,25 @@ impl Walk<'_> {
             }
         }
     }
+}
+
+/// The tool frame in the tool link's frame: a rotation taking +z onto
+/// [`RobotImportOptions::tool_approach`] (the identity without one).
+fn approach_rotation(options: &RobotImportOptions) -> Result<Isometry3<f64>, RobotError> {
+    let Some(axis) = options.tool_approach else {
+        return Ok(Isometry3::identity());
+    };
+    let invalid = || RobotError::InvalidToolApproach { axis };
+    let axis = Vector3::from(axis);
+    if !axis.iter().all(|c| c.is_finite()) {
+        return Err(invalid());
+    }
+    let axis = axis.try_normalize(1e-12).ok_or_else(invalid)?;
+    // rotation_between has no unique answer for the opposite direction: a half turn about x.
+    let rotation = UnitQuaternion::rotation_between(&Vector3::z(), &axis).unwrap_or_else(|| {
+        UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI)
+    });
+    Ok(Isometry3::from_parts(Translation3::identity(), rotation))
 }
 
 fn is_movable(kind: &JointType) -> bool {
