@@ -3,3 +3,4 @@
 mod articulation;
 mod ik;
 mod robot;
+mod third_party;

@@ -127,6 +127,9 @@ pub struct RobotLink {
     /// One flag per collider: `true` for the gripper's contact geometry (fingers, pads), the
     /// only shapes allowed to touch a grasped part (see [`RobotImportOptions::contact_links`]).
     pub contact: Vec<bool>,
+    /// The URDF links whose collision elements this link carries (itself and the links merged
+    /// into it through fixed or frozen joints), in the order they were merged.
+    pub merged: Vec<String>,
 }
 
 impl RobotLink {

@@ -118,9 +118,11 @@ impl RobotModel {
     }
 
     /// This robot with what an SRDF says about it:
-    /// - its `disable_collisions` pairs as the self-collision exemptions (exactly those, as an
-    ///   SRDF-based checker uses them; pairs naming a link this model does not have are
-    ///   skipped, see [`RobotModel::srdf_unknown_links`]);
+    /// - its `disable_collisions` pairs as the self-collision exemptions, never more than the
+    ///   SRDF exempts: two robot links are exempt when every pair of the URDF links they carry
+    ///   ([`RobotLink::merged`](super::RobotLink::merged), the links merged into them through
+    ///   fixed and frozen joints) is disabled; pairs naming a link with no collision elements
+    ///   or not in the URDF are skipped (see [`RobotModel::srdf_unknown_links`]);
     /// - its stowed group state ([`Srdf::stow_state`]) as [`RobotModel::neutral`]: the arm
     ///   joints it names take its values, the others keep theirs.
     ///
@@ -129,19 +131,37 @@ impl RobotModel {
     /// joints have one coordinate); [`RobotModel::with_neutral`]'s errors for values outside
     /// the limits.
     pub fn with_srdf(self, srdf: &Srdf) -> Result<RobotModel, RobotError> {
-        let index = |name: &str| self.links.iter().position(|l| l.name == name);
-        let pairs: Vec<AllowedPair> = srdf
-            .disabled
-            .iter()
-            .filter_map(|d| {
-                Some(AllowedPair {
-                    link1: index(&d.link1)?,
-                    link2: index(&d.link2)?,
-                    reason: PairReason::Srdf(d.reason.clone()),
-                })
-            })
-            .filter(|p| p.link1 != p.link2)
-            .collect();
+        let disabled = |a: &str, b: &str| {
+            srdf.disabled
+                .iter()
+                .find(|d| (d.link1 == a && d.link2 == b) || (d.link1 == b && d.link2 == a))
+        };
+        let mut pairs = Vec::new();
+        for i in 0..self.links.len() {
+            for j in i + 1..self.links.len() {
+                let (x, y) = (&self.links[i].merged, &self.links[j].merged);
+                if x.is_empty() || y.is_empty() {
+                    continue;
+                }
+                let mut reason = None;
+                let all = x.iter().all(|a| {
+                    y.iter().all(|b| {
+                        disabled(a, b)
+                            .inspect(|d| {
+                                reason.get_or_insert_with(|| d.reason.clone());
+                            })
+                            .is_some()
+                    })
+                });
+                if all {
+                    pairs.push(AllowedPair {
+                        link1: i,
+                        link2: j,
+                        reason: PairReason::Srdf(reason.unwrap_or_default()),
+                    });
+                }
+            }
+        }
         let mut neutral = self.neutral.clone();
         if let Some(state) = srdf.stow_state() {
             for (joint, values) in &state.joints {
@@ -160,15 +180,15 @@ impl RobotModel {
         self.with_allowed_pairs(pairs)?.with_neutral(&neutral)
     }
 
-    /// The link names an SRDF's `disable_collisions` pairs use that this model has no link of
-    /// (sorted, without repeats): links of a subtree the model leaves out, or a mismatch
-    /// between the SRDF and the URDF.
+    /// The link names an SRDF's `disable_collisions` pairs use that carry no collision
+    /// elements in this model (sorted, without repeats): links without geometry, links of a
+    /// subtree the model leaves out, or a mismatch between the SRDF and the URDF.
     pub fn srdf_unknown_links(&self, srdf: &Srdf) -> Vec<String> {
         let mut unknown: Vec<String> = srdf
             .disabled
             .iter()
             .flat_map(|d| [&d.link1, &d.link2])
-            .filter(|name| !self.links.iter().any(|l| &&l.name == name))
+            .filter(|name| !self.links.iter().any(|l| l.merged.contains(name)))
             .cloned()
             .collect();
         unknown.sort();
@@ -277,7 +297,9 @@ impl RobotModel {
 
     /// The robot's semantic description as an SRDF: a group `arm` (the chain from the base
     /// link to the last arm link), the group state `stow` ([`RobotModel::neutral`]) and the
-    /// exemptions of [`RobotModel::allowed_pairs`] (none when the robot has none).
+    /// exemptions of [`RobotModel::allowed_pairs`], as every pair of the URDF links the two
+    /// robot links carry ([`RobotLink::merged`](super::RobotLink::merged); none when the
+    /// robot has no exemptions).
     pub fn to_srdf(&self) -> Srdf {
         let name = |i: usize| self.links[i].name.clone();
         Srdf {
@@ -297,14 +319,20 @@ impl RobotModel {
                     .map(|(j, &q)| (j.name.clone(), vec![q]))
                     .collect(),
             }],
+            // Every pair of the URDF links the two robot links carry.
             disabled: self
                 .allowed_pairs()
                 .unwrap_or_default()
                 .iter()
-                .map(|p| DisabledPair {
-                    link1: name(p.link1),
-                    link2: name(p.link2),
-                    reason: p.reason.to_string(),
+                .flat_map(|p| {
+                    let (x, y) = (&self.links[p.link1].merged, &self.links[p.link2].merged);
+                    x.iter().flat_map(move |a| {
+                        y.iter().map(move |b| DisabledPair {
+                            link1: a.clone(),
+                            link2: b.clone(),
+                            reason: p.reason.to_string(),
+                        })
+                    })
                 })
                 .collect(),
         }

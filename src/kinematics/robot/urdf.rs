@@ -233,6 +233,7 @@ impl Tree {
                 name: robot.links[base_link].name.clone(),
                 colliders: Vec::new(),
                 contact: Vec::new(),
+                merged: Vec::new(),
             }],
             contact: options.contact_links.as_deref(),
             owner: vec![None; robot.links.len()],
@@ -344,6 +345,7 @@ impl Walk<'_> {
                 name: self.robot.links[child].name.clone(),
                 colliders: Vec::new(),
                 contact: Vec::new(),
+                merged: Vec::new(),
             });
             self.owner[child] = Some((k + 1, Isometry3::identity()));
             return Ok(());
@@ -388,6 +390,9 @@ impl Walk<'_> {
     fn add_colliders(&mut self, l: usize) -> Result<(), RobotError> {
         let link = &self.robot.links[l];
         let (owner, owner_from_link) = self.owner[l].expect("visited");
+        if !link.collision.is_empty() {
+            self.links[owner].merged.push(link.name.clone());
+        }
         for (index, collision) in link.collision.iter().enumerate() {
             let pose = origin(&collision.origin, || {
                 format!("link {:?} collision {index} origin", link.name)
