@@ -1,6 +1,6 @@
 //! Inverse kinematics: the TRAC-IK protocol on the shipped Kinova Gen3 and on the Panda, the
-//! dense step path against the Clarabel-only solver and against TRAC-IK; then issue 5's Gen3
-//! measurement against pink.
+//! dense step path against the Clarabel-only solver and against TRAC-IK; then the Gen3 from
+//! its neutral configuration against pink.
 //!
 //! **TRAC-IK protocol** (per robot): 10 000 random arm configurations (ChaCha8, seed 5; uniform
 //! within the joint limits, continuous joints uniform in [−π, π)) → forward kinematics
@@ -47,7 +47,7 @@ use nalgebra::{DVector, Isometry3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-/// The issue's sample count.
+/// Targets of the TRAC-IK protocol (its published sample count).
 const SAMPLES: usize = 10_000;
 /// Targets timed by criterion (the first ones of the sample).
 const CRITERION_SUBSET: usize = 200;

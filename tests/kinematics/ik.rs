@@ -701,7 +701,7 @@ fn gen3_round_trip_from_neutral() {
             "rotation error {dr}"
         );
     }
-    // The bar is 99.5 %; on 200 samples at most 1 miss.
+    // The bar is 99.5 %; on 200 samples at most 1 miss.
     assert!(successes + 1 >= samples, "{successes}/{samples} converged");
 }
 

@@ -1,4 +1,4 @@
-//! Tests of the kitchen simulator (examples/kitchen/sim; owner: sim helper).
+//! Tests of the kitchen simulator (examples/kitchen/sim).
 //!
 //! Expected values come from the kitchen URDF's geometry (its header states the layout) and
 //! from kinscene's own forward kinematics and exact sweep checks, not from the simulator.
