@@ -15,6 +15,29 @@ pub enum JointKind {
     Prismatic,
 }
 
+impl JointKind {
+    /// The URDF joint type: `revolute` or `prismatic` (also its `Display`).
+    ///
+    /// ```
+    /// use kinscene::scene::JointKind;
+    /// assert_eq!(JointKind::Prismatic.as_str(), "prismatic");
+    /// assert_eq!(JointKind::Revolute.to_string(), "revolute");
+    /// ```
+    pub fn as_str(self) -> &'static str {
+        match self {
+            JointKind::Revolute => "revolute",
+            JointKind::Prismatic => "prismatic",
+        }
+    }
+}
+
+impl std::fmt::Display for JointKind {
+    /// The URDF joint type ([`JointKind::as_str`]).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
 /// Joint limits, `lower <= upper`, in radians (revolute) or metres (prismatic).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Limits {

@@ -17,7 +17,7 @@ use kinscene::task::{
 
 use super::PipelineError;
 use super::manipulation::{Attempt, Category, Planning, TrueGoal, plan_and_execute, translate};
-use super::matching::{MATCH_RADIUS, Match, PartAxis, kind_name, nearest_part};
+use super::matching::{MATCH_RADIUS, Match, PartAxis, nearest_part};
 use super::sequences::{START_BASE, Sequence};
 use super::sim::{Clock, SimWorld};
 use super::stages::{Recorder, pose};
@@ -304,7 +304,7 @@ pub fn type_checks(
                 estimator: estimator.to_string(),
                 joint: t.joint.clone(),
                 estimated: e.kind.clone(),
-                correct: e.kind == kind_name(t.kind),
+                correct: e.kind == t.kind.as_str(),
             })
         })
         .collect()

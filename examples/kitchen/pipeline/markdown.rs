@@ -7,7 +7,6 @@ use std::fmt::Write as _;
 use super::Experiment;
 use super::config::Method;
 use super::manipulation::{Category, PRISMATIC_TOLERANCE, REVOLUTE_TOLERANCE};
-use super::matching::kind_name;
 use super::summary::{AttemptRow, Report, fig5_tally, table1_summary, table2_summary};
 
 /// `n / d` in percent, or `–`.
@@ -697,14 +696,14 @@ impl Report {
                 r.estimator,
                 r.m.true_joint,
                 r.m.est_joint,
-                kind_name(r.m.true_kind),
+                r.m.true_kind.as_str(),
                 if r.m.estimator_kind == r.m.est_kind {
-                    kind_name(r.m.est_kind).to_string()
+                    r.m.est_kind.to_string()
                 } else {
                     format!(
                         "{} (registered {})",
-                        kind_name(r.m.estimator_kind),
-                        kind_name(r.m.est_kind)
+                        r.m.estimator_kind.as_str(),
+                        r.m.est_kind.as_str()
                     )
                 },
                 r.m.angle_error,

@@ -189,11 +189,3 @@ pub fn nearest_part(truth: &[PartAxis], p: &Point3<f64>, radius: f64) -> Option<
         .min_by(|a, b| a.1.total_cmp(&b.1))
         .map(|(i, _)| i)
 }
-
-/// The short name of a joint type.
-pub fn kind_name(kind: JointKind) -> &'static str {
-    match kind {
-        JointKind::Revolute => "revolute",
-        JointKind::Prismatic => "prismatic",
-    }
-}
