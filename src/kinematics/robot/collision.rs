@@ -309,28 +309,18 @@ impl RobotCollision {
         &self.base_links
     }
 
-    /// The lowest world z of the shapes of links `first..` at `link_poses` (their world
-    /// boxes; `+∞` without shapes).
-    pub(super) fn lowest_z(&self, link_poses: &[Isometry3<f64>], first: usize) -> f64 {
+    /// The lowest and highest world z of the shapes of links `first..` at `link_poses` (their
+    /// world boxes; `(+∞, −∞)` without shapes).
+    pub(super) fn height_range(&self, link_poses: &[Isometry3<f64>], first: usize) -> (f64, f64) {
         (first..self.shapes.len().min(link_poses.len()))
             .flat_map(|l| {
                 self.shapes[l]
                     .iter()
-                    .map(move |s| s.world_box(&link_poses[l]).min.z)
+                    .map(move |s| s.world_box(&link_poses[l]))
             })
-            .fold(f64::INFINITY, f64::min)
-    }
-
-    /// The highest world z of the shapes of links `first..` at `link_poses` (their world
-    /// boxes; `−∞` without shapes).
-    pub(super) fn highest_z(&self, link_poses: &[Isometry3<f64>], first: usize) -> f64 {
-        (first..self.shapes.len().min(link_poses.len()))
-            .flat_map(|l| {
-                self.shapes[l]
-                    .iter()
-                    .map(move |s| s.world_box(&link_poses[l]).max.z)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), b| {
+                (lo.min(b.min.z), hi.max(b.max.z))
             })
-            .fold(f64::NEG_INFINITY, f64::max)
     }
 
     /// Every pair `(i, j)`, `i < j`, of links with shapes whose shapes touch or overlap at

@@ -47,10 +47,12 @@ struct Judge<'a> {
 }
 
 impl Judge<'_> {
-    /// The cost of `arm` as a stow, or `None` when `arm` (or a perturbation of it) touches
-    /// itself or comes within the floor clearance: how far the footprint radius exceeds the
-    /// chassis' own, plus [`HEIGHT_WEIGHT`] times the arm's highest point.
-    fn cost(&self, arm: &DVector<f64>) -> Option<f64> {
+    /// The cost of `arm` as a stow when it is below `to_beat`, or `None` when it is not, or
+    /// when `arm` (or a perturbation of it) touches itself or comes within the floor
+    /// clearance: how far the footprint radius exceeds the chassis' own, plus
+    /// [`HEIGHT_WEIGHT`] times the arm's highest point. The perturbations (two checks per
+    /// joint) are checked last, only for a candidate that would be kept.
+    fn cost(&self, arm: &DVector<f64>, to_beat: f64) -> Option<f64> {
         let poses = |q: &DVector<f64>| {
             self.robot.link_poses(&RobotConfig {
                 base: [0.0; 3],
@@ -58,12 +60,15 @@ impl Judge<'_> {
             })
         };
         let at = poses(arm).ok()?;
-        if self.collision.self_collision(&at).is_some()
-            || self.collision.lowest_z(&at, 1) < self.search.floor_clearance
-        {
+        let (bottom, top) = self.collision.height_range(&at, 1);
+        if bottom < self.search.floor_clearance || self.collision.self_collision(&at).is_some() {
             return None;
         }
-        let top = self.collision.highest_z(&at, 1).max(0.0);
+        let outside = (self.robot.footprint_at(arm) - self.base_radius).max(0.0);
+        let cost = outside + HEIGHT_WEIGHT * top.max(0.0);
+        if cost >= to_beat {
+            return None;
+        }
         let mut moved = arm.clone();
         for (i, joint) in self.robot.joints.iter().enumerate() {
             for delta in [-self.search.perturbation, self.search.perturbation] {
@@ -77,8 +82,7 @@ impl Judge<'_> {
                 }
             }
         }
-        let outside = (self.robot.footprint_at(arm) - self.base_radius).max(0.0);
-        Some(outside + HEIGHT_WEIGHT * top)
+        Some(cost)
     }
 }
 
@@ -130,8 +134,9 @@ impl RobotModel {
             collision: RobotCollision::new(&judged)?,
             search,
         };
-        let mut best: Option<(f64, DVector<f64>)> =
-            judge.cost(&self.neutral).map(|f| (f, self.neutral.clone()));
+        let mut best: Option<(f64, DVector<f64>)> = judge
+            .cost(&self.neutral, f64::INFINITY)
+            .map(|f| (f, self.neutral.clone()));
         let mut rng = ChaCha8Rng::seed_from_u64(search.seed);
         let mut q = DVector::zeros(self.dof());
         for _ in 0..search.samples {
@@ -143,10 +148,9 @@ impl RobotModel {
                     lo
                 };
             }
-            if let Some(f) = judge.cost(&q) {
-                if best.as_ref().is_none_or(|(b, _)| f < *b) {
-                    best = Some((f, q.clone()));
-                }
+            let to_beat = best.as_ref().map_or(f64::INFINITY, |(b, _)| *b);
+            if let Some(f) = judge.cost(&q, to_beat) {
+                best = Some((f, q.clone()));
             }
         }
         let Some((mut cost, mut stow)) = best else {
@@ -163,11 +167,9 @@ impl RobotModel {
                     for delta in [-step, step] {
                         let mut trial = stow.clone();
                         trial[i] = (stow[i] + delta).clamp(lo, hi);
-                        if let Some(f) = judge.cost(&trial) {
-                            if f < cost - 1e-9 {
-                                (cost, stow) = (f, trial);
-                                improved = true;
-                            }
+                        if let Some(f) = judge.cost(&trial, cost - 1e-9) {
+                            (cost, stow) = (f, trial);
+                            improved = true;
                         }
                     }
                 }
