@@ -337,20 +337,13 @@ fn ours(
         clarabel_steps += stats.clarabel_steps;
         attempts += stats.attempts;
         match outcome {
-            IkOutcome::Converged { .. } => solved += 1,
-            IkOutcome::NotConverged {
-                position_error,
-                rotation_error,
-                reason,
-                ..
-            } => {
-                if reason.starts_with("budget") {
+            IkOutcome::Solved(_) => solved += 1,
+            other => {
+                if matches!(other, IkOutcome::Timeout(_)) {
                     budget_ends += 1;
                 }
                 if verbose {
-                    println!(
-                        "  not converged: {position_error:.2e} m, {rotation_error:.2e} rad ({reason})"
-                    );
+                    println!("  not converged: {other}");
                 }
             }
         }

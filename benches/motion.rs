@@ -141,7 +141,7 @@ fn base_plan(c: &mut Criterion) {
         &Termination::none(),
     )
     .unwrap();
-    let PathOutcome::Found(path) = &outcome else {
+    let PathOutcome::Solved(path) = &outcome else {
         panic!("base plan: {outcome:?}")
     };
     let recheck = |q: &[f64]| footprint.is_free(q[0], q[1]);
@@ -186,7 +186,7 @@ fn base_plan(c: &mut Criterion) {
                     &Termination::none(),
                 )
                 .unwrap();
-                assert!(outcome.is_found(), "{outcome:?}");
+                assert!(outcome.is_solved(), "{outcome:?}");
                 black_box(outcome)
             })
         });
@@ -349,7 +349,7 @@ fn arm_plan(c: &mut Criterion) {
         )
         .unwrap()
         {
-            PathOutcome::Found(path) => goals.push((q, path)),
+            PathOutcome::Solved(path) => goals.push((q, path)),
             _ => skipped += 1,
         }
     }
@@ -401,7 +401,7 @@ fn arm_plan(c: &mut Criterion) {
             )
             .unwrap();
             total += 1;
-            found += usize::from(outcome.is_found());
+            found += usize::from(outcome.is_solved());
             black_box(outcome)
         })
     });

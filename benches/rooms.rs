@@ -319,7 +319,7 @@ fn run(planner: Planner, room: &Room, budget: Duration) -> Run {
             factor: None,
             note: why.message,
         },
-        Outcome::Timeout(partial) => Run {
+        Outcome::Timeout(partial) | Outcome::Cancelled(partial) => Run {
             verdict: Verdict::Timeout,
             to_plan: None,
             wall,

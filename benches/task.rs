@@ -515,7 +515,7 @@ fn run(planner: Planner, inst: &Instance, i: usize) -> Run {
                             note = why.message;
                             (Verdict::Infeasible, Vec::new())
                         }
-                        Outcome::Timeout(partial) => {
+                        Outcome::Timeout(partial) | Outcome::Cancelled(partial) => {
                             note = format!(
                                 "best partial: {} steps, unmet {:?}",
                                 partial.plan.steps.len(),

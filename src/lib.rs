@@ -6,7 +6,7 @@ pub mod discovery;
 pub mod error;
 pub mod scene;
 pub mod task;
-pub use control::Termination;
+pub use control::{Outcome, Termination};
 pub use error::Error;
 
 pub mod kinematics;

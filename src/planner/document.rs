@@ -139,39 +139,28 @@ impl MotionDocument {
                 let motion = p.steps.iter().map(StepDocument::from).collect();
                 (file, motion, Vec::new(), p.duration())
             }
-            MotionOutcome::Infeasible { task, vetoes } => {
+            MotionOutcome::Infeasible(why) => {
                 let mut file = PlanFile::from_result(&PlanResult {
-                    outcome: Outcome::Infeasible(task.clone()),
+                    outcome: Outcome::Infeasible(why.task.clone()),
                     stats,
                 });
-                // The motion layer's verdict leads: the task search's own explanation is
-                // about the orders left after the vetoes.
-                if let Some(first) = vetoes.first() {
-                    let reason = file.reason.take().unwrap_or_default();
-                    file.reason = Some(format!(
-                        "{first}; the motion layer vetoed {} move(s) in all, and then {reason}",
-                        vetoes.len()
-                    ));
-                }
-                (file, Vec::new(), vetoes.clone(), 0.0)
+                file.reason = Some(why.to_string());
+                (file, Vec::new(), why.vetoes.clone(), 0.0)
             }
-            MotionOutcome::Timeout { reason, vetoes } => {
-                let reason = match vetoes.first() {
-                    Some(first) => format!(
-                        "{reason}; the motion layer had vetoed {} move(s), first: {first}",
-                        vetoes.len()
-                    ),
-                    None => reason.clone(),
-                };
+            MotionOutcome::Timeout(progress) | MotionOutcome::Cancelled(progress) => {
                 let file = PlanFile {
-                    status: PlanStatus::Timeout,
+                    status: if matches!(result.outcome, MotionOutcome::Cancelled(_)) {
+                        PlanStatus::Cancelled
+                    } else {
+                        PlanStatus::Timeout
+                    },
                     steps: Vec::new(),
                     cost: 0.0,
-                    reason: Some(reason),
+                    reason: Some(progress.to_string()),
                     conflicts: Vec::new(),
                     stats: Some(stats),
                 };
-                (file, Vec::new(), vetoes.clone(), 0.0)
+                (file, Vec::new(), progress.vetoes.clone(), 0.0)
             }
         };
         MotionDocument {

@@ -38,6 +38,7 @@ pub use reach::arm_reach;
 pub use settings::PlannerSettings;
 pub use step::{Check, StepFailure, StepMotion, StepTiming};
 
+use std::fmt;
 use std::sync::Mutex;
 use std::time::Instant;
 
@@ -50,7 +51,8 @@ use crate::motion::placement::{PlacementData, PlacementError};
 use crate::motion::timing::TimingError;
 use crate::scene::{JointId, PartId, SceneModel, State};
 use crate::task::{
-    self, Infeasibility, MoveContext, Outcome, Plan, Problem, Refinement, SearchStats, Termination,
+    self, Infeasibility, MoveContext, Outcome, Partial, Plan, Problem, Refinement, SearchStats,
+    Termination,
 };
 
 /// Errors of the hierarchical planner: bad input and broken backends only.
@@ -104,27 +106,82 @@ impl MotionPlan {
     }
 }
 
-/// The verdict of the hierarchical planner.
+/// The verdict of the hierarchical planner: [`Solved`](crate::Outcome::Solved) when every step
+/// refined, [`Infeasible`](crate::Outcome::Infeasible) when no order of moves refines (the task
+/// search ran out of orders once the vetoes were added), or
+/// [`Timeout`](crate::Outcome::Timeout) / [`Cancelled`](crate::Outcome::Cancelled) with where
+/// the planner was and the vetoes found so far.
+pub type MotionOutcome = crate::Outcome<MotionPlan, MotionInfeasibility, Progress>;
+
+/// Why no order of moves refines.
 #[derive(Debug, Clone, PartialEq)]
-pub enum MotionOutcome {
-    /// Every step refined.
-    Solved(MotionPlan),
-    /// No order of moves refines: the task search ran out of orders once the vetoes were
-    /// added. `task` is its report; `vetoes` says which step failed which check in the orders
-    /// tried.
-    Infeasible {
-        /// The task search's infeasibility report (after the vetoes).
-        task: Infeasibility,
-        /// The motion failures that vetoed moves, in the order they were found.
-        vetoes: Vec<StepFailure>,
-    },
-    /// The budget or the cancel flag stopped the planner.
-    Timeout {
-        /// What was being done.
-        reason: String,
-        /// The motion failures found so far.
-        vetoes: Vec<StepFailure>,
-    },
+pub struct MotionInfeasibility {
+    /// The task search's infeasibility report (after the vetoes).
+    pub task: Infeasibility,
+    /// The motion failures that vetoed moves, in the order they were found; `task` is about
+    /// the orders left after them.
+    pub vetoes: Vec<StepFailure>,
+}
+
+impl fmt::Display for MotionInfeasibility {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.vetoes.first() {
+            // The motion layer's verdict leads: the task search's own explanation is about the
+            // orders left after the vetoes.
+            Some(first) => write!(
+                f,
+                "{first}; the motion layer vetoed {} move(s) in all, and then {}",
+                self.vetoes.len(),
+                self.task
+            ),
+            None => write!(f, "{}", self.task),
+        }
+    }
+}
+
+/// What the hierarchical planner hands back when its [`Termination`] stopped it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Progress {
+    /// Where it stopped.
+    pub at: StopPoint,
+    /// The motion failures found so far, in the order found.
+    pub vetoes: Vec<StepFailure>,
+}
+
+/// Where the hierarchical planner was when it stopped.
+#[derive(Debug, Clone, PartialEq)]
+pub enum StopPoint {
+    /// Between a vetoed order and the next task search.
+    BetweenTaskPlans,
+    /// In the task search, with the plan to the explored state closest to the goal.
+    TaskSearch(Partial),
+    /// Refining a step of an order: the step, with [`Check::Stopped`] and the phase it was
+    /// in.
+    Refining(StepFailure),
+}
+
+impl fmt::Display for StopPoint {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            StopPoint::BetweenTaskPlans => f.write_str("stopped between task plans"),
+            StopPoint::TaskSearch(partial) => write!(f, "stopped in the task search; {partial}"),
+            StopPoint::Refining(step) => write!(f, "stopped refining {step}"),
+        }
+    }
+}
+
+impl fmt::Display for Progress {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.at)?;
+        if let Some(first) = self.vetoes.first() {
+            write!(
+                f,
+                "; the motion layer had vetoed {} move(s), first: {first}",
+                self.vetoes.len()
+            )?;
+        }
+        Ok(())
+    }
 }
 
 /// [`MotionOutcome`] plus statistics.
@@ -312,14 +369,19 @@ impl HierarchicalPlanner {
         };
         loop {
             if termination.should_stop() {
-                return Ok(self.timeout(
-                    "budget exhausted between task plans",
-                    failures,
+                return Ok(PlannerResult {
+                    outcome: MotionOutcome::stopped(
+                        termination,
+                        Progress {
+                            at: StopPoint::BetweenTaskPlans,
+                            vetoes: failures,
+                        },
+                    ),
                     task_plans,
-                    SearchStats::default(),
+                    task_stats: SearchStats::default(),
                     task_time,
                     motion_time,
-                ));
+                });
             }
             let t0 = Instant::now();
             let result = task::plan(model, problem, &self.settings.task, &refiner, termination)?;
@@ -329,29 +391,30 @@ impl HierarchicalPlanner {
                 Outcome::Solved(plan) => plan,
                 Outcome::Infeasible(why) => {
                     return Ok(PlannerResult {
-                        outcome: MotionOutcome::Infeasible {
+                        outcome: MotionOutcome::Infeasible(MotionInfeasibility {
                             task: why,
                             vetoes: failures,
-                        },
+                        }),
                         task_plans,
                         task_stats: result.stats,
                         task_time,
                         motion_time,
                     });
                 }
-                Outcome::Timeout(partial) => {
-                    let reason = format!(
-                        "budget exhausted in the task search; unmet goal joints: {}",
-                        partial.unmet.join(", ")
-                    );
-                    return Ok(self.timeout(
-                        &reason,
-                        failures,
+                Outcome::Timeout(partial) | Outcome::Cancelled(partial) => {
+                    return Ok(PlannerResult {
+                        outcome: MotionOutcome::stopped(
+                            termination,
+                            Progress {
+                                at: StopPoint::TaskSearch(partial),
+                                vetoes: failures,
+                            },
+                        ),
                         task_plans,
-                        result.stats,
+                        task_stats: result.stats,
                         task_time,
                         motion_time,
-                    ));
+                    });
                 }
             };
             let t1 = Instant::now();
@@ -374,7 +437,7 @@ impl HierarchicalPlanner {
                         let message = format!("the baseline's order does not refine: {failure}");
                         failures.push(failure);
                         return Ok(PlannerResult {
-                            outcome: MotionOutcome::Infeasible {
+                            outcome: MotionOutcome::Infeasible(MotionInfeasibility {
                                 task: Infeasibility {
                                     message,
                                     unreached: Vec::new(),
@@ -382,7 +445,7 @@ impl HierarchicalPlanner {
                                     start_collisions: Vec::new(),
                                 },
                                 vetoes: failures,
-                            },
+                            }),
                             task_plans,
                             task_stats: result.stats,
                             task_time,
@@ -392,15 +455,20 @@ impl HierarchicalPlanner {
                     vetoes.lock().unwrap_or_else(|e| e.into_inner()).push(rule);
                     failures.push(failure);
                 }
-                Refined::Stopped(reason) => {
-                    return Ok(self.timeout(
-                        &reason,
-                        failures,
+                Refined::Stopped(step) => {
+                    return Ok(PlannerResult {
+                        outcome: MotionOutcome::stopped(
+                            termination,
+                            Progress {
+                                at: StopPoint::Refining(step),
+                                vetoes: failures,
+                            },
+                        ),
                         task_plans,
-                        result.stats,
+                        task_stats: result.stats,
                         task_time,
                         motion_time,
-                    ));
+                    });
                 }
             }
         }
@@ -428,30 +496,9 @@ impl HierarchicalPlanner {
                 task: plan.clone(),
                 steps,
             }),
-            Refined::Failed { failure, .. } => RefineOutcome::Failed(failure),
-            Refined::Stopped(reason) => RefineOutcome::Stopped(reason),
+            Refined::Failed { failure, .. } => RefineOutcome::Infeasible(failure),
+            Refined::Stopped(step) => RefineOutcome::stopped(termination, step),
         })
-    }
-
-    fn timeout(
-        &self,
-        reason: &str,
-        vetoes: Vec<StepFailure>,
-        task_plans: usize,
-        task_stats: SearchStats,
-        task_time: f64,
-        motion_time: f64,
-    ) -> PlannerResult {
-        PlannerResult {
-            outcome: MotionOutcome::Timeout {
-                reason: reason.to_string(),
-                vetoes,
-            },
-            task_plans,
-            task_stats,
-            task_time,
-            motion_time,
-        }
     }
 
     /// Refines the steps of `plan` in order.
@@ -476,11 +523,14 @@ impl HierarchicalPlanner {
         let mut steps = Vec::with_capacity(plan.steps.len());
         for (index, s) in plan.steps.iter().enumerate() {
             if termination.should_stop() {
-                return Ok(Refined::Stopped(format!(
-                    "budget exhausted refining step {} of {}",
-                    index + 1,
-                    plan.steps.len()
-                )));
+                return Ok(Refined::Stopped(StepFailure {
+                    step: index,
+                    joint: s.joint.clone(),
+                    from: state.value_by_name(model, &s.joint)?,
+                    to: s.to,
+                    check: Check::Stopped,
+                    reason: "before the step began".into(),
+                }));
             }
             let joint = model.joint_id(&s.joint)?;
             let ctx = step::StepContext {
@@ -500,7 +550,7 @@ impl HierarchicalPlanner {
                     steps.push(motion);
                 }
                 Err((failure, _)) if failure.check == Check::Stopped => {
-                    return Ok(Refined::Stopped(failure.to_string()));
+                    return Ok(Refined::Stopped(failure));
                 }
                 Err((failure, causes)) => {
                     let rule = VetoRule::new(
@@ -519,16 +569,12 @@ impl HierarchicalPlanner {
     }
 }
 
-/// How refining one given order ended ([`HierarchicalPlanner::refine`]).
-#[derive(Debug, Clone, PartialEq)]
-pub enum RefineOutcome {
-    /// Every step refined.
-    Solved(MotionPlan),
-    /// This step failed this check (the steps before it refined).
-    Failed(StepFailure),
-    /// The budget or the cancel flag stopped refinement.
-    Stopped(String),
-}
+/// How refining one given order ended ([`HierarchicalPlanner::refine`]):
+/// [`Solved`](crate::Outcome::Solved) when every step refined,
+/// [`Infeasible`](crate::Outcome::Infeasible) with the step that failed and its check (the steps
+/// before it refined), or [`Timeout`](crate::Outcome::Timeout) /
+/// [`Cancelled`](crate::Outcome::Cancelled) with the step being refined ([`Check::Stopped`]).
+pub type RefineOutcome = crate::Outcome<MotionPlan, StepFailure, StepFailure>;
 
 /// How refining a task plan ended.
 enum Refined {
@@ -537,5 +583,5 @@ enum Refined {
         rule: VetoRule,
         failure: StepFailure,
     },
-    Stopped(String),
+    Stopped(StepFailure),
 }

@@ -313,7 +313,7 @@ pub(super) fn refine(
             &settings.paths,
             ctx.termination,
         )? {
-            PathOutcome::Found(p) => p,
+            PathOutcome::Solved(p) => p,
             other => {
                 let check = if ctx.termination.should_stop() {
                     Check::Stopped
@@ -399,7 +399,7 @@ pub(super) fn refine(
             ctx.termination,
         )?;
         let path = match outcome {
-            PathOutcome::Found(p) => p,
+            PathOutcome::Solved(p) => p,
             other => {
                 let check = if ctx.termination.should_stop() {
                     Check::Stopped
@@ -655,12 +655,10 @@ fn same_pose(a: &[f64; 3], b: &[f64; 3]) -> bool {
 
 fn describe(outcome: &PathOutcome, what: &str) -> String {
     match outcome {
-        PathOutcome::Found(_) => format!("{what}: found"),
-        PathOutcome::NotFound { reason } => format!("no {what} path: {reason}"),
-        PathOutcome::InvalidStart => format!("{what}: the start configuration collides"),
-        PathOutcome::InvalidGoal => format!("{what}: the goal configuration collides"),
-        PathOutcome::Timeout => format!("no {what} path within the budget"),
-        PathOutcome::Cancelled => format!("{what}: cancelled"),
+        PathOutcome::Solved(_) => format!("{what}: found"),
+        PathOutcome::Infeasible(why) => format!("no {what} path: {why}"),
+        PathOutcome::Timeout(()) => format!("no {what} path within the budget"),
+        PathOutcome::Cancelled(()) => format!("{what}: cancelled"),
     }
 }
 

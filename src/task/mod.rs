@@ -210,11 +210,16 @@ pub fn plan(
     settings.validate()?;
     problem.start.validate(model)?;
     start::check_start(model, &problem.start, &settings.sweep.collision)?;
-    match settings.strategy {
+    let mut result = match settings.strategy {
         Strategy::Search => search::run(model, problem, settings, refiner, termination),
         Strategy::Random { seed } => baseline::random(model, problem, settings, termination, seed),
         Strategy::Paper { seed } => baseline::paper(model, problem, settings, termination, seed),
+    }?;
+    // The strategies report any stop as a timeout; say which condition stopped them.
+    if let Outcome::Timeout(partial) = result.outcome {
+        result.outcome = Outcome::stopped(termination, partial);
     }
+    Ok(result)
 }
 
 /// The feasibility predicate of the search, exposed for brute-force comparisons and tools:

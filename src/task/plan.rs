@@ -181,15 +181,28 @@ pub struct Partial {
     pub unmet: Vec<String>,
 }
 
-/// The result of planning.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Outcome {
-    /// A plan that reaches the goal; every step passed the feasibility checks.
-    Solved(Plan),
-    /// No plan exists in the lattice (complete search, or the baseline's failure).
-    Infeasible(Infeasibility),
-    /// The budget or the cancel flag stopped the search first.
-    Timeout(Partial),
+/// The result of task planning: [`Solved`](crate::Outcome::Solved) with a plan that reaches
+/// the goal (every step passed the feasibility checks), [`Infeasible`](crate::Outcome::Infeasible)
+/// when no plan exists in the lattice (complete search, or the baseline's failure), or
+/// [`Timeout`](crate::Outcome::Timeout) / [`Cancelled`](crate::Outcome::Cancelled) with the plan
+/// to the explored state closest to the goal.
+pub type Outcome = crate::Outcome<Plan, Infeasibility, Partial>;
+
+impl std::fmt::Display for Infeasibility {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl std::fmt::Display for Partial {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} steps planned; unmet goal joints: {}",
+            self.plan.steps.len(),
+            self.unmet.join(", ")
+        )
+    }
 }
 
 /// Search statistics.
@@ -280,12 +293,14 @@ pub enum PlanStatus {
     Infeasible,
     /// The budget ran out.
     Timeout,
+    /// The cancel flag stopped the search.
+    Cancelled,
 }
 
 /// The plan document (see the module docs for the schema).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PlanFile {
-    /// Solved, infeasible or timeout.
+    /// Solved, infeasible, timeout or cancelled.
     pub status: PlanStatus,
     /// The plan (solved) or best partial plan (timeout); empty when infeasible.
     pub steps: Vec<Step>,
@@ -324,12 +339,21 @@ impl PlanFile {
                 conflicts: why.conflicts.clone(),
                 stats,
             },
-            Outcome::Timeout(partial) => PlanFile {
-                status: PlanStatus::Timeout,
+            Outcome::Timeout(partial) | Outcome::Cancelled(partial) => PlanFile {
+                status: if matches!(result.outcome, Outcome::Cancelled(_)) {
+                    PlanStatus::Cancelled
+                } else {
+                    PlanStatus::Timeout
+                },
                 steps: partial.plan.steps.clone(),
                 cost: partial.plan.cost,
                 reason: Some(format!(
-                    "budget exhausted; unmet goal joints: {}",
+                    "{}; unmet goal joints: {}",
+                    if matches!(result.outcome, Outcome::Cancelled(_)) {
+                        "cancelled"
+                    } else {
+                        "budget exhausted"
+                    },
                     partial.unmet.join(", ")
                 )),
                 conflicts: Vec::new(),

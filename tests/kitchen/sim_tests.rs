@@ -551,7 +551,7 @@ fn arm_plan(
     )
     .expect("valid planning input")
     {
-        PathOutcome::Found(path) => path,
+        PathOutcome::Solved(path) => path,
         other => panic!("no arm path: {other:?}"),
     }
 }

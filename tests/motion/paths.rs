@@ -14,8 +14,8 @@ use std::time::{Duration, Instant};
 
 use kinscene::Termination;
 use kinscene::motion::paths::{
-    CONTINUOUS_JOINT_WINDOW, PathError, PathOutcome, PathSettings, first_invalid, plan_arm,
-    plan_base,
+    CONTINUOUS_JOINT_WINDOW, PathError, PathFailure, PathOutcome, PathSettings, first_invalid,
+    plan_arm, plan_base,
 };
 use kinscene::scene::collision::{CollisionSettings, collisions_of};
 use kinscene::scene::{
@@ -148,7 +148,7 @@ fn base_path_through_the_gap_passes_the_dense_recheck() {
 
     let settings = base_settings(11, Duration::from_secs(10));
     let outcome = plan_base(start, goal, BOUNDS, &valid, &settings, &Termination::none()).unwrap();
-    let PathOutcome::Found(path) = outcome else {
+    let PathOutcome::Solved(path) = outcome else {
         panic!("{outcome:?}")
     };
     assert_eq!(path[0], start.to_vec());
@@ -200,7 +200,7 @@ fn same_seed_same_base_path() {
         )
     };
     let first = run().unwrap();
-    assert!(first.is_found(), "{first:?}");
+    assert!(first.is_solved(), "{first:?}");
     assert_eq!(first, run().unwrap());
 }
 
@@ -223,7 +223,10 @@ fn walled_off_goal_is_an_outcome_within_the_budget() {
     assert!(
         matches!(
             outcome,
-            Ok(PathOutcome::Timeout | PathOutcome::NotFound { .. })
+            Ok(PathOutcome::Timeout(())
+                | PathOutcome::Infeasible(
+                    PathFailure::Planner { .. } | PathFailure::Approximate { .. }
+                ))
         ),
         "{outcome:?}"
     );
@@ -247,7 +250,7 @@ fn cancel_flag_set_before_planning_cancels() {
         &Termination::none().with_cancel(&flag),
     )
     .unwrap();
-    assert_eq!(outcome, PathOutcome::Cancelled);
+    assert_eq!(outcome, PathOutcome::Cancelled(()));
     assert!(t0.elapsed() < Duration::from_secs(2));
 }
 
@@ -269,7 +272,7 @@ fn invalid_start_and_goal_are_outcomes() {
         &Termination::none(),
     )
     .unwrap();
-    assert_eq!(outcome, PathOutcome::InvalidStart);
+    assert_eq!(outcome, PathOutcome::Infeasible(PathFailure::InvalidStart));
     let outcome = plan_base(
         free,
         inside,
@@ -279,7 +282,7 @@ fn invalid_start_and_goal_are_outcomes() {
         &Termination::none(),
     )
     .unwrap();
-    assert_eq!(outcome, PathOutcome::InvalidGoal);
+    assert_eq!(outcome, PathOutcome::Infeasible(PathFailure::InvalidGoal));
     // A goal outside the bounds is an outcome too (the start is an error, below).
     let outcome = plan_base(
         free,
@@ -290,7 +293,7 @@ fn invalid_start_and_goal_are_outcomes() {
         &Termination::none(),
     )
     .unwrap();
-    assert_eq!(outcome, PathOutcome::InvalidGoal);
+    assert_eq!(outcome, PathOutcome::Infeasible(PathFailure::InvalidGoal));
 }
 
 #[test]
@@ -401,7 +404,7 @@ fn arm_path_through_the_window_passes_the_dense_recheck() {
         &Termination::none(),
     )
     .unwrap();
-    let PathOutcome::Found(path) = outcome else {
+    let PathOutcome::Solved(path) = outcome else {
         panic!("{outcome:?}")
     };
     assert_eq!(path[0], start.to_vec());
@@ -454,7 +457,13 @@ fn arm_blocked_goal_and_bad_input() {
     )
     .unwrap();
     assert!(
-        matches!(outcome, PathOutcome::Timeout | PathOutcome::NotFound { .. }),
+        matches!(
+            outcome,
+            PathOutcome::Timeout(())
+                | PathOutcome::Infeasible(
+                    PathFailure::Planner { .. } | PathFailure::Approximate { .. }
+                )
+        ),
         "{outcome:?}"
     );
     // Invalid start.
@@ -468,7 +477,7 @@ fn arm_blocked_goal_and_bad_input() {
         &Termination::none(),
     )
     .unwrap();
-    assert_eq!(outcome, PathOutcome::InvalidStart);
+    assert_eq!(outcome, PathOutcome::Infeasible(PathFailure::InvalidStart));
 
     let any = |_: &[f64]| true;
     let arm = |start: &[f64], goal: &[f64], lower: &[f64], upper: &[f64]| {
@@ -619,7 +628,7 @@ fn the_callers_termination_bounds_a_path_and_a_spent_one_stops_it_at_once() {
         &spent,
     )
     .unwrap();
-    assert_eq!(outcome, PathOutcome::Timeout);
+    assert_eq!(outcome, PathOutcome::Timeout(()));
     assert!(
         t0.elapsed() < Duration::from_millis(100),
         "{:?}",
@@ -640,7 +649,13 @@ fn the_callers_termination_bounds_a_path_and_a_spent_one_stops_it_at_once() {
     )
     .unwrap();
     assert!(
-        matches!(outcome, PathOutcome::Timeout | PathOutcome::NotFound { .. }),
+        matches!(
+            outcome,
+            PathOutcome::Timeout(())
+                | PathOutcome::Infeasible(
+                    PathFailure::Planner { .. } | PathFailure::Approximate { .. }
+                )
+        ),
         "{outcome:?}"
     );
     assert!(

@@ -8,8 +8,8 @@ use std::time::Duration;
 use kinscene::kinematics::pinocchio::{Data, forward_kinematics, frame_placement};
 use kinscene::kinematics::robot::{Exempt, RobotCollision, RobotConfig, RobotModel};
 use kinscene::planner::{
-    Check, HierarchicalPlanner, MotionDocument, MotionOutcome, PlannerError, PlannerSettings,
-    RefineOutcome,
+    Check, HierarchicalPlanner, MotionDocument, MotionInfeasibility, MotionOutcome, PlannerError,
+    PlannerSettings, RefineOutcome,
 };
 use kinscene::scene::motion::grasp_trajectory;
 use kinscene::scene::nav::{GridBounds, NavGridSettings};
@@ -347,7 +347,7 @@ fn a_given_order_is_refined_once_and_a_baseline_order_that_does_not_refine_is_in
         .refine(&model, &problem, &order, &budget())
         .expect("valid input")
     {
-        RefineOutcome::Failed(f) => {
+        RefineOutcome::Infeasible(f) => {
             assert_eq!(f.step, 0);
             assert_eq!(f.check, Check::BasePath, "{f}");
         }
@@ -366,7 +366,7 @@ fn a_given_order_is_refined_once_and_a_baseline_order_that_does_not_refine_is_in
     let result = baseline
         .plan(&model, &problem, &budget())
         .expect("valid input");
-    let MotionOutcome::Infeasible { vetoes, .. } = &result.outcome else {
+    let MotionOutcome::Infeasible(MotionInfeasibility { vetoes, .. }) = &result.outcome else {
         panic!("expected infeasible, got {:?}", result.outcome);
     };
     assert_eq!(result.task_plans, 1);

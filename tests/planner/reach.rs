@@ -7,7 +7,7 @@ use std::time::Duration;
 
 use kinscene::kinematics::pinocchio::{Data, forward_kinematics, frame_placement};
 use kinscene::kinematics::robot::RobotModel;
-use kinscene::planner::{MotionOutcome, arm_reach};
+use kinscene::planner::{MotionInfeasibility, MotionOutcome, arm_reach};
 use kinscene::task::Termination;
 use nalgebra::DVector;
 use rand::{Rng, SeedableRng};
@@ -94,7 +94,7 @@ fn a_handle_out_of_reach_is_infeasible_at_the_task_level_with_the_numbers() {
             &Termination::after(Duration::from_secs(60)),
         )
         .expect("valid input");
-    let MotionOutcome::Infeasible { vetoes, task } = &result.outcome else {
+    let MotionOutcome::Infeasible(MotionInfeasibility { vetoes, task }) = &result.outcome else {
         panic!("expected infeasible, got {:?}", result.outcome);
     };
     assert!(vetoes.is_empty(), "{vetoes:?}");

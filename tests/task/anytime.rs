@@ -43,7 +43,7 @@ fn cost(r: &PlanResult) -> Option<f64> {
     match &r.outcome {
         Outcome::Solved(p) => Some(p.cost),
         Outcome::Infeasible(_) => None,
-        Outcome::Timeout(_) => panic!("timeout without a budget"),
+        Outcome::Timeout(_) | Outcome::Cancelled(_) => panic!("timeout without a budget"),
     }
 }
 

@@ -327,7 +327,9 @@ pub fn compare(
                     .collect::<Vec<_>>()
             );
         }
-        (Outcome::Timeout(_), _) => prop_assert!(false, "timeout without a budget: {what}"),
+        (Outcome::Timeout(_) | Outcome::Cancelled(_), _) => {
+            prop_assert!(false, "timeout without a budget: {what}")
+        }
     }
     // The focal order (src/task/settings.rs, `heuristic_weight` 2): the same verdict,
     // and a plan that validates and costs at most `w` times the optimum.
@@ -371,7 +373,7 @@ pub fn compare(
     let summary = match &result.outcome {
         Outcome::Solved(p) => format!("solved in {} steps", p.steps.len()),
         Outcome::Infeasible(_) => "infeasible".to_string(),
-        Outcome::Timeout(_) => "timeout".to_string(),
+        Outcome::Timeout(_) | Outcome::Cancelled(_) => "timeout".to_string(),
     };
     eprintln!(
         "brute force: {} joints, {} goal joints, interior {interior_values}: {summary}, {} rounds; search {searched:?}, enumeration {enumerated:?} ({} calls)",

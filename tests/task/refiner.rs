@@ -370,7 +370,7 @@ fn base_pose_veto_gives_another_plan_or_a_vetoed_infeasibility() {
                 .any(|f| matches!(f.cause, Cause::Vetoed { .. })),
             "{why:#?}"
         ),
-        Outcome::Timeout(_) => panic!("no budget was set"),
+        Outcome::Timeout(_) | Outcome::Cancelled(_) => panic!("no budget was set"),
     }
 }
 

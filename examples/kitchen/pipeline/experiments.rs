@@ -60,7 +60,7 @@ pub fn check_sequences(
                 p.steps.iter().map(step_text).collect(),
             ),
             Outcome::Infeasible(why) => (format!("infeasible ({})", why.message), Vec::new()),
-            Outcome::Timeout(_) => ("timeout".to_string(), Vec::new()),
+            Outcome::Timeout(_) | Outcome::Cancelled(_) => ("timeout".to_string(), Vec::new()),
         };
         let mut rejected = BTreeMap::new();
         for seed in 0..RANDOM_CHECKS {
@@ -173,7 +173,7 @@ pub fn task_level(truth: &SceneModel, goals: &Path) -> Result<Vec<TaskLevelRow>,
                 r.valid = if v.valid { "valid" } else { "INVALID" }.into();
             }
             Outcome::Infeasible(_) => r.search = "infeasible".into(),
-            Outcome::Timeout(_) => r.search = "timeout".into(),
+            Outcome::Timeout(_) | Outcome::Cancelled(_) => r.search = "timeout".into(),
         }
         let baseline = |strategy| -> Result<String, PipelineError> {
             let s = TaskSettings {
@@ -193,7 +193,7 @@ pub fn task_level(truth: &SceneModel, goals: &Path) -> Result<Vec<TaskLevelRow>,
                 }
                 Outcome::Solved(_) => "solved, invalid".into(),
                 Outcome::Infeasible(_) => "failed".into(),
-                Outcome::Timeout(_) => "timeout".into(),
+                Outcome::Timeout(_) | Outcome::Cancelled(_) => "timeout".into(),
             })
         };
         r.random = baseline(Strategy::Random { seed: 1 })?;

@@ -7,7 +7,8 @@ use std::time::{Duration, Instant};
 
 use kinscene::discovery::{Observation, reconcile};
 use kinscene::planner::{
-    HierarchicalPlanner, MotionDocument, MotionOutcome, MotionPlan, PlannerResult, RefineOutcome,
+    HierarchicalPlanner, MotionDocument, MotionInfeasibility, MotionOutcome, MotionPlan,
+    PlannerResult, RefineOutcome,
 };
 use kinscene::scene::collision::SweepSettings;
 use kinscene::scene::{BaseShape, JointKind, SceneData, SceneModel, State, forward_kinematics};
@@ -434,9 +435,9 @@ pub fn plan_and_execute(
                 planning_wall: wall,
             }
         }
-        MotionOutcome::Infeasible { task, vetoes } => {
-            let mut reason = format!("no plan: {}", task.message);
-            if let Some(v) = vetoes.first() {
+        MotionOutcome::Infeasible(why) => {
+            let mut reason = format!("no plan: {}", why.task.message);
+            if let Some(v) = why.vetoes.first() {
                 reason.push_str(&format!(" (first veto: {v})"));
             }
             Attempt::without_plan(
@@ -445,11 +446,13 @@ pub fn plan_and_execute(
                 wall,
             )
         }
-        MotionOutcome::Timeout { reason, .. } => Attempt::without_plan(
-            Verdict::failed(Category::Other, format!("planner timeout: {reason}")),
-            Some(document),
-            wall,
-        ),
+        MotionOutcome::Timeout(progress) | MotionOutcome::Cancelled(progress) => {
+            Attempt::without_plan(
+                Verdict::failed(Category::Other, format!("planner timeout: {progress}")),
+                Some(document),
+                wall,
+            )
+        }
     };
     Ok((attempt, Some(result)))
 }
@@ -502,10 +505,10 @@ pub fn random(
                 .first()
                 .map_or(Category::Other, |f| cause_category(&f.cause));
             let document = doc(
-                MotionOutcome::Infeasible {
+                MotionOutcome::Infeasible(MotionInfeasibility {
                     task: why.clone(),
                     vetoes: Vec::new(),
-                },
+                }),
                 &result.stats,
             );
             let v = Verdict::failed(
@@ -518,7 +521,7 @@ pub fn random(
                 t0.elapsed().as_secs_f64(),
             ));
         }
-        Outcome::Timeout(_) => {
+        Outcome::Timeout(_) | Outcome::Cancelled(_) => {
             let v = Verdict::failed(Category::Other, "task layer timeout");
             return Ok(Attempt::without_plan(v, None, t0.elapsed().as_secs_f64()));
         }
@@ -544,13 +547,13 @@ pub fn random(
                 planning_wall: wall,
             })
         }
-        RefineOutcome::Failed(failure) => {
+        RefineOutcome::Infeasible(failure) => {
             // A step the motion layer cannot refine (no base pose, no arm or base path) is
             // "other": path blocking is the task layer's path check or the simulator's.
             let category = Category::Other;
             let reason = format!("the order does not refine: {failure}");
             let document = doc(
-                MotionOutcome::Infeasible {
+                MotionOutcome::Infeasible(MotionInfeasibility {
                     task: Infeasibility {
                         message: reason.clone(),
                         unreached: Vec::new(),
@@ -558,7 +561,7 @@ pub fn random(
                         start_collisions: Vec::new(),
                     },
                     vetoes: vec![failure],
-                },
+                }),
                 &result.stats,
             );
             Ok(Attempt::without_plan(
@@ -567,8 +570,8 @@ pub fn random(
                 wall,
             ))
         }
-        RefineOutcome::Stopped(reason) => Ok(Attempt::without_plan(
-            Verdict::failed(Category::Other, format!("refinement timeout: {reason}")),
+        RefineOutcome::Timeout(step) | RefineOutcome::Cancelled(step) => Ok(Attempt::without_plan(
+            Verdict::failed(Category::Other, format!("refinement timeout: {step}")),
             None,
             wall,
         )),

@@ -144,7 +144,7 @@ impl Robot {
             self.ik.solve(&target, seed)
         };
         match outcome {
-            Ok(IkOutcome::Converged { q, .. }) => Some(q),
+            Ok(IkOutcome::Solved(solution)) => Some(solution.q),
             _ => None,
         }
     }

@@ -162,10 +162,10 @@ mod imp {
         let reason = document.plan.reason.clone().unwrap_or_default();
         let verdict = match &result.outcome {
             MotionOutcome::Solved(_) => Verdict::Success,
-            MotionOutcome::Infeasible { .. } => Verdict::Infeasible {
+            MotionOutcome::Infeasible(_) => Verdict::Infeasible {
                 note: format!("infeasible: {reason}"),
             },
-            MotionOutcome::Timeout { .. } => Verdict::Timeout {
+            MotionOutcome::Timeout(_) | MotionOutcome::Cancelled(_) => Verdict::Timeout {
                 note: format!("timeout after {budget_text}: {reason}"),
             },
         };

@@ -259,7 +259,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<Verdict, CliError> {
             }
             Verdict::Infeasible { note }
         }
-        Outcome::Timeout(_) => Verdict::Timeout {
+        Outcome::Timeout(_) | Outcome::Cancelled(_) => Verdict::Timeout {
             note: format!("timeout after {}: {reason}", args.budget.trim()),
         },
     };
@@ -314,7 +314,7 @@ fn conflicting_targets(
                 kept.remove(k);
             }
             Outcome::Solved(_) => k += 1,
-            Outcome::Timeout(_) => return Ok(None),
+            Outcome::Timeout(_) | Outcome::Cancelled(_) => return Ok(None),
         }
     }
     Ok(Some(

@@ -1,7 +1,7 @@
 //! The inverse-kinematics error type.
 
-/// Bad input to the IK solver, or a backend that failed. Not converging is no error: it is
-/// [`crate::kinematics::ik::IkOutcome::NotConverged`].
+/// Bad input to the IK solver, or a backend that failed. Not converging is no error: it is an
+/// [`IkOutcome`](crate::kinematics::ik::IkOutcome) other than `Solved`.
 #[non_exhaustive]
 #[derive(Debug, Clone, thiserror::Error)]
 pub enum IkError {

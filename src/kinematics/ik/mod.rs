@@ -3,12 +3,12 @@
 //!
 //! [`IkSolver`] places one frame of a [`kinscene_pinocchio::Model`] (for a robot, its tool
 //! frame) at an [`IkTarget`]: a full pose, or a position plus an approach axis with the roll
-//! about the axis free. Not converging is an outcome ([`IkOutcome::NotConverged`], with the best
-//! configuration found), not an error; [`IkError`] is for bad input and failed backends.
+//! about the axis free. Not converging is an outcome ([`IkOutcome`] `Infeasible` or `Timeout`, with the
+//! best configuration found), not an error; [`IkError`] is for bad input and failed backends.
 //!
 //! # Example
 //! ```
-//! use kinscene::kinematics::ik::{IkOutcome, IkSettings, IkSolver, IkTarget};
+//! use kinscene::kinematics::ik::{IkOutcome, IkSettings, IkSolution, IkSolver, IkTarget};
 //! use kinscene::kinematics::pinocchio::{self as pin, JointIndex, JointKind, JointLimits};
 //! use nalgebra::{DVector, Isometry3, Point3, Vector3};
 //!
@@ -25,7 +25,7 @@
 //! let solver = IkSolver::new(&model, tip, IkSettings::default())?;
 //! // Tip at (0.5, 0.5, 0), pointing +z: reachable with q = (π/2, −π/2) or (0, π/2).
 //! let target = IkTarget::PositionAxis { position: Point3::new(0.5, 0.5, 0.0), axis: Vector3::z_axis() };
-//! let IkOutcome::Converged { q, .. } = solver.solve(&target, &model.neutral())? else {
+//! let IkOutcome::Solved(IkSolution { q, .. }) = solver.solve(&target, &model.neutral())? else {
 //!     panic!("reachable");
 //! };
 //! let mut data = pin::Data::new(&model)?;
@@ -45,5 +45,7 @@ mod target;
 
 pub use error::IkError;
 pub use settings::{IkSettings, StepSolver};
-pub use solver::{IkData, IkOutcome, IkSolver, IkStats};
+pub use solver::{
+    IkBest, IkData, IkFailure, IkOutcome, IkSolution, IkSolver, IkStats, NoConvergence,
+};
 pub use target::IkTarget;

@@ -38,7 +38,7 @@ pub struct IkSettings {
     /// from the seed ([`crate::kinematics::ik::IkSolver::solve`] only). Default 50.
     pub restarts: usize,
     /// Wall-clock budget of one solve; when it runs out the solve reports
-    /// [`crate::kinematics::ik::IkOutcome::NotConverged`] with the best configuration seen.
+    /// [`Timeout`](crate::Outcome::Timeout) with the best configuration seen.
     /// A safety net: where it ends a solve, the answer depends on the machine's load (see
     /// [`IkSettings::max_total_iterations`]). Default 50 ms.
     pub budget: Duration,

@@ -21,39 +21,91 @@ const STALL_FACTOR: f64 = 0.9;
 /// See [`STALL_FACTOR`].
 const STALL_WINDOW: usize = 10;
 
-/// How one IK solve ended.
+/// How one IK solve ended: [`Solved`](crate::Outcome::Solved) when both tolerances were met,
+/// [`Infeasible`](crate::Outcome::Infeasible) when no attempt met them within the iteration
+/// limits and restarts (with the best configuration seen), or
+/// [`Timeout`](crate::Outcome::Timeout) when the wall-clock budget
+/// ([`IkSettings::budget`](super::IkSettings::budget)) ran out first (with the best seen). IK
+/// takes no cancel flag, so it is never `Cancelled`.
+pub type IkOutcome = crate::Outcome<IkSolution, IkFailure, IkBest>;
+
+/// A configuration that meets both tolerances.
 #[derive(Debug, Clone, PartialEq)]
-pub enum IkOutcome {
-    /// Both tolerances were met at `q` (length nq, within the joint limits).
-    Converged {
-        /// The configuration.
-        q: DVector<f64>,
-        /// Steps over all attempts.
-        iterations: usize,
-        /// Random restarts used (0: converged from the seed).
-        restarts: usize,
-    },
-    /// No attempt met the tolerances within the iteration limits, restarts and budget.
-    NotConverged {
-        /// The configuration with the smallest error seen (within the joint limits).
-        best: DVector<f64>,
-        /// Its position error (m).
-        position_error: f64,
-        /// Its rotation error (rad).
-        rotation_error: f64,
-        /// Why the solver stopped: the iteration budget
-        /// ([`IkSettings::max_total_iterations`]), the wall-clock budget, or every attempt
-        /// stalled or ran out of steps.
-        reason: String,
-    },
+pub struct IkSolution {
+    /// The configuration (length nq, within the joint limits).
+    pub q: DVector<f64>,
+    /// Steps over all attempts.
+    pub iterations: usize,
+    /// Random restarts used (0: converged from the seed).
+    pub restarts: usize,
+}
+
+/// The configuration with the smallest error an unsuccessful solve saw.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IkBest {
+    /// The configuration (length nq, within the joint limits).
+    pub q: DVector<f64>,
+    /// Its position error (m).
+    pub position_error: f64,
+    /// Its rotation error (rad).
+    pub rotation_error: f64,
+    /// Steps over all attempts.
+    pub iterations: usize,
+    /// Random restarts used.
+    pub restarts: usize,
+}
+
+impl std::fmt::Display for IkBest {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "best error {:.2e} m, {:.2e} rad after {} iterations and {} restarts",
+            self.position_error, self.rotation_error, self.iterations, self.restarts
+        )
+    }
+}
+
+/// Why an IK solve ended without meeting the tolerances.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NoConvergence {
+    /// The iteration budget over all attempts
+    /// ([`IkSettings::max_total_iterations`](super::IkSettings::max_total_iterations)) ran out.
+    IterationBudget,
+    /// Every attempt stalled in a local minimum or used its iterations.
+    AttemptsExhausted,
+}
+
+/// An IK solve that did not converge: why, and the best configuration seen.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IkFailure {
+    /// Why the solver stopped.
+    pub reason: NoConvergence,
+    /// The best configuration seen.
+    pub best: IkBest,
+}
+
+impl std::fmt::Display for IkFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let why = match self.reason {
+            NoConvergence::IterationBudget => "iteration budget exhausted",
+            NoConvergence::AttemptsExhausted => "every attempt stalled or ran out of steps",
+        };
+        write!(f, "IK did not converge ({why}); {}", self.best)
+    }
 }
 
 impl IkOutcome {
     /// The converged configuration, if any.
     pub fn q(&self) -> Option<&DVector<f64>> {
+        self.solved().map(|s| &s.q)
+    }
+
+    /// The best configuration seen, converged or not.
+    pub fn best_q(&self) -> &DVector<f64> {
         match self {
-            IkOutcome::Converged { q, .. } => Some(q),
-            IkOutcome::NotConverged { .. } => None,
+            crate::Outcome::Solved(s) => &s.q,
+            crate::Outcome::Infeasible(f) => &f.best.q,
+            crate::Outcome::Timeout(b) | crate::Outcome::Cancelled(b) => &b.q,
         }
     }
 }
@@ -325,7 +377,7 @@ impl IkSolver {
     /// [`IkError::NonFinite`], [`IkError::NonUnitAxis`], [`IkError::NonUnitRotation`],
     /// [`IkError::Pinocchio`] (e.g. a `(cos, sin)` pair of the seed off unit length),
     /// [`IkError::QpSetup`], [`IkError::QpFailed`]. Not converging is
-    /// [`IkOutcome::NotConverged`].
+    /// an [`IkOutcome`] other than `Solved`.
     pub fn solve(&self, target: &IkTarget, seed: &DVector<f64>) -> Result<IkOutcome, IkError> {
         self.solve_with(&mut IkData::new(self)?, target, seed)
     }
@@ -390,7 +442,8 @@ impl IkSolver {
         let mut best: Option<Best> = None;
         let mut iterations = 0;
         let restarts = if near { 0 } else { self.settings.restarts };
-        let mut reason = String::new();
+        let mut ended_by = None;
+        let mut attempts = 0;
         for attempt in 0..=restarts {
             let q0 = if attempt == 0 {
                 seed.clone()
@@ -398,46 +451,46 @@ impl IkSolver {
                 self.random_configuration(&seed, &mut rng)
             };
             let ended = self.attempt(data, &problem, &mut task, q0, &mut iterations, &mut best);
+            attempts = attempt + 1;
             data.last = IkStats {
                 steps: iterations,
                 clarabel_steps: data.steps.clarabel_steps,
-                attempts: attempt + 1,
+                attempts,
             };
             match ended? {
                 Attempt::Converged(q) => {
-                    return Ok(IkOutcome::Converged {
+                    return Ok(IkOutcome::Solved(IkSolution {
                         q,
                         iterations,
                         restarts: attempt,
-                    });
+                    }));
                 }
                 Attempt::OutOfIterationBudget => {
-                    reason = format!(
-                        "iteration budget of {iterations} steps exhausted after {attempt} restarts"
-                    );
+                    ended_by = Some(Some(NoConvergence::IterationBudget));
                     break;
                 }
                 Attempt::OutOfTime => {
-                    reason = format!(
-                        "budget of {:?} exhausted after {iterations} iterations and {attempt} restarts",
-                        self.settings.budget
-                    );
+                    ended_by = Some(None);
                     break;
                 }
-                Attempt::Stalled | Attempt::OutOfIterations => {
-                    reason = format!(
-                        "no convergence in {} attempts ({iterations} iterations)",
-                        attempt + 1
-                    );
-                }
+                Attempt::Stalled | Attempt::OutOfIterations => {}
             }
         }
         let best = best.expect("every attempt evaluates its start");
-        Ok(IkOutcome::NotConverged {
-            best: best.q,
+        let best = IkBest {
+            q: best.q,
             position_error: best.position_error,
             rotation_error: best.rotation_error,
-            reason,
+            iterations,
+            restarts: attempts - 1,
+        };
+        Ok(match ended_by {
+            Some(None) => IkOutcome::Timeout(best),
+            Some(Some(reason)) => IkOutcome::Infeasible(IkFailure { reason, best }),
+            None => IkOutcome::Infeasible(IkFailure {
+                reason: NoConvergence::AttemptsExhausted,
+                best,
+            }),
         })
     }
 

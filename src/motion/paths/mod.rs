@@ -33,7 +33,7 @@
 //! let settings = PathSettings { seed: Some(7), ..PathSettings::default() };
 //! let outcome = plan_base([1.0, 1.0, 0.0], [3.0, 1.0, 1.5], ([0.0, 0.0], [4.0, 4.0]),
 //!                         &free, &settings, &Termination::none())?;
-//! let PathOutcome::Found(path) = outcome else { panic!("{outcome:?}") };
+//! let PathOutcome::Solved(path) = outcome else { panic!("{outcome:?}") };
 //! assert_eq!(path[0], vec![1.0, 1.0, 0.0]);
 //! // Independent re-check at a fifth of the planner's spacing.
 //! let free_slice = |q: &[f64]| free(&[q[0], q[1], q[2]]);
@@ -113,38 +113,71 @@ impl PathSettings {
     }
 }
 
-/// How planning ended.
+/// How planning ended: [`Solved`](crate::Outcome::Solved) with a collision-free path from
+/// start to goal (see the module's path conventions), [`Infeasible`](crate::Outcome::Infeasible)
+/// with the reason there is none, or [`Timeout`](crate::Outcome::Timeout) /
+/// [`Cancelled`](crate::Outcome::Cancelled) when the budget or the cancel flag stopped planning
+/// before any path was found.
+pub type PathOutcome = crate::Outcome<Vec<Vec<f64>>, PathFailure>;
+
+/// Why a path planner returned no path.
 #[derive(Debug, Clone, PartialEq)]
-pub enum PathOutcome {
-    /// A collision-free path from start to goal (see the module's path conventions).
-    Found(Vec<Vec<f64>>),
-    /// No path, for a reason other than the ones below: an approximate solution only (with
-    /// its distance to the goal), or the planner gave up or crashed.
-    NotFound {
-        /// What OMPL reported, in words.
-        reason: String,
-    },
+pub enum PathFailure {
     /// The validity closure rejects the start.
     InvalidStart,
     /// The goal is outside the bounds or the validity closure rejects it.
     InvalidGoal,
-    /// The budget ran out before any path was found.
-    Timeout,
-    /// The cancel flag stopped planning.
-    Cancelled,
+    /// OMPL found only an approximate solution, ending this far (the space's distance) from
+    /// the goal. Approximate solutions are not paths.
+    Approximate {
+        /// Distance from the approximate path's end to the goal.
+        goal_distance: f64,
+        /// Panics caught in the validity closure, each counted as an invalid state.
+        checker_panics: usize,
+    },
+    /// OMPL gave up, crashed or reported an exact solution without states.
+    Planner {
+        /// OMPL's status.
+        status: kinscene_ompl::PlanStatus,
+        /// Panics caught in the validity closure, each counted as an invalid state.
+        checker_panics: usize,
+    },
 }
 
-impl PathOutcome {
-    /// The path, if one was found.
-    pub fn path(&self) -> Option<&[Vec<f64>]> {
+impl std::fmt::Display for PathFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            PathOutcome::Found(path) => Some(path),
-            _ => None,
+            PathFailure::InvalidStart => f.write_str("the start configuration collides"),
+            PathFailure::InvalidGoal => {
+                f.write_str("the goal configuration collides or is out of bounds")
+            }
+            PathFailure::Approximate {
+                goal_distance,
+                checker_panics,
+            } => {
+                write!(
+                    f,
+                    "OMPL found only an approximate solution, ending {goal_distance:.4} from the goal"
+                )?;
+                panics(f, *checker_panics)
+            }
+            PathFailure::Planner {
+                status,
+                checker_panics,
+            } => {
+                write!(f, "OMPL ended with status {status:?}")?;
+                panics(f, *checker_panics)
+            }
         }
     }
+}
 
-    /// True for [`PathOutcome::Found`].
-    pub fn is_found(&self) -> bool {
-        matches!(self, PathOutcome::Found(_))
+fn panics(f: &mut std::fmt::Formatter<'_>, count: usize) -> std::fmt::Result {
+    match count {
+        0 => Ok(()),
+        n => write!(
+            f,
+            " ({n} panics in the validity closure, counted as invalid states)"
+        ),
     }
 }

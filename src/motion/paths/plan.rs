@@ -7,7 +7,7 @@ use kinscene_ompl::{
     PlanOutcome, PlanSettings, PlanStatus, Problem, StateSpace, StateValidityChecker, Termination,
 };
 
-use super::{PathError, PathOutcome, PathSettings};
+use super::{PathError, PathFailure, PathOutcome, PathSettings};
 
 /// Half-width (rad) of the window a continuous joint (infinite bounds) is planned in: the
 /// joint is bounded to `[min(start, goal) − W, max(start, goal) + W]`, one half turn of slack
@@ -24,11 +24,11 @@ static OMPL_RNG: RwLock<()> = RwLock::new(());
 ///
 /// `bounds` = `([x_min, y_min], [x_max, y_max])` bounds x and y; yaw is free and wraps. The
 /// closure `valid` sees states with yaw in `[-π, π]`. Planning stops at the earlier of
-/// `termination` and [`PathSettings::budget`] from now ([`PathOutcome::Timeout`]), or when its
-/// cancel flag is raised ([`PathOutcome::Cancelled`]).
+/// `termination` and [`PathSettings::budget`] from now ([`Timeout`](crate::Outcome::Timeout)), or when its
+/// cancel flag is raised ([`Cancelled`](crate::Outcome::Cancelled)).
 ///
 /// The returned path follows the module's conventions: yaw unwrapped from `start[2]`. A goal
-/// outside the bounds is [`PathOutcome::InvalidGoal`], as in OMPL.
+/// outside the bounds is [`PathFailure::InvalidGoal`], as in OMPL.
 ///
 /// # Errors
 /// [`PathError::NonFinite`] for NaN or infinite coordinates or bounds,
@@ -60,9 +60,9 @@ pub fn plan_base(
     let problem = Problem::new(space, start.to_vec(), goal.to_vec());
     let outcome = run(&problem, &checker, extent, settings, termination)?;
     Ok(match outcome {
-        PathOutcome::Found(mut path) => {
+        PathOutcome::Solved(mut path) => {
             unwrap_yaw(&mut path, &start);
-            PathOutcome::Found(path)
+            PathOutcome::Solved(path)
         }
         other => other,
     })
@@ -72,7 +72,7 @@ pub fn plan_base(
 ///
 /// An infinite bound (a continuous joint, ±∞) is replaced by a finite window around the start
 /// and goal values, see [`CONTINUOUS_JOINT_WINDOW`]. The closure `valid` sees states inside
-/// the (windowed) bounds. A goal outside the bounds is [`PathOutcome::InvalidGoal`], as in
+/// the (windowed) bounds. A goal outside the bounds is [`PathFailure::InvalidGoal`], as in
 /// OMPL. The returned path's first state is `start`. `termination` as for [`plan_base`].
 ///
 /// # Errors
@@ -148,10 +148,10 @@ pub fn plan_arm(
     let problem = Problem::new(space, start.to_vec(), goal.to_vec());
     let outcome = run(&problem, &checker, extent, settings, termination)?;
     Ok(match outcome {
-        PathOutcome::Found(mut path) => {
+        PathOutcome::Solved(mut path) => {
             // OMPL copies the start's values; make that exact whatever the shim does.
             path[0].copy_from_slice(start);
-            PathOutcome::Found(path)
+            PathOutcome::Solved(path)
         }
         other => other,
     })
@@ -185,11 +185,7 @@ fn run<C: StateValidityChecker>(
     let ours = termination.capped(settings.budget);
     let budget = ours.remaining().unwrap_or(settings.budget);
     if ours.should_stop() || budget.is_zero() {
-        return Ok(if ours.is_cancelled() {
-            PathOutcome::Cancelled
-        } else {
-            PathOutcome::Timeout
-        });
+        return Ok(PathOutcome::stopped(&ours, ()));
     }
     let mut termination = Termination::after(budget);
     if let Some(flag) = ours.cancel_flag() {
@@ -212,29 +208,24 @@ fn run<C: StateValidityChecker>(
 
 /// OMPL's status as a [`PathOutcome`]; approximate solutions are not paths.
 fn map_outcome(outcome: PlanOutcome) -> PathOutcome {
-    let panics = match outcome.checker_panics {
-        0 => String::new(),
-        n => format!(" ({n} panics in the validity closure, counted as invalid states)"),
+    let failure = match outcome.status {
+        PlanStatus::ExactSolution if !outcome.path.is_empty() => {
+            return PathOutcome::Solved(outcome.path);
+        }
+        PlanStatus::Timeout => return PathOutcome::Timeout(()),
+        PlanStatus::Cancelled => return PathOutcome::Cancelled(()),
+        PlanStatus::ApproximateSolution => PathFailure::Approximate {
+            goal_distance: outcome.goal_distance.unwrap_or(f64::INFINITY),
+            checker_panics: outcome.checker_panics,
+        },
+        PlanStatus::InvalidStart => PathFailure::InvalidStart,
+        PlanStatus::InvalidGoal => PathFailure::InvalidGoal,
+        status => PathFailure::Planner {
+            status,
+            checker_panics: outcome.checker_panics,
+        },
     };
-    match outcome.status {
-        PlanStatus::ExactSolution if !outcome.path.is_empty() => PathOutcome::Found(outcome.path),
-        PlanStatus::ExactSolution => PathOutcome::NotFound {
-            reason: format!("OMPL reported an exact solution without states{panics}"),
-        },
-        PlanStatus::ApproximateSolution => PathOutcome::NotFound {
-            reason: format!(
-                "OMPL found only an approximate solution, ending {} from the goal{panics}",
-                outcome.goal_distance.unwrap_or(f64::NAN)
-            ),
-        },
-        PlanStatus::Timeout => PathOutcome::Timeout,
-        PlanStatus::Cancelled => PathOutcome::Cancelled,
-        PlanStatus::InvalidStart => PathOutcome::InvalidStart,
-        PlanStatus::InvalidGoal => PathOutcome::InvalidGoal,
-        other => PathOutcome::NotFound {
-            reason: format!("OMPL status {other:?}{panics}"),
-        },
-    }
+    PathOutcome::Infeasible(failure)
 }
 
 /// Rewrites the yaws of an SE(2) path so that the first is `start[2]` and each differs from

@@ -9,7 +9,7 @@ use super::grasp::{GraspRotation, JointMotion};
 use super::plan::{ManipulationPlan, Obstacle, WaypointFailure};
 use super::{ManipulationSettings, PlacementError, PlacementProblem};
 use crate::control::Termination;
-use crate::kinematics::ik::{IkData, IkOutcome, IkTarget};
+use crate::kinematics::ik::{IkBest, IkData, IkFailure, IkOutcome, IkSolution, IkTarget};
 use crate::kinematics::robot::{ArmJointKind, Exempt, RobotConfig, RobotModel};
 use crate::scene::collision::Body;
 use crate::scene::{PartId, SceneData, forward_kinematics};
@@ -322,7 +322,7 @@ impl<'a> Prepared<'a> {
                 None => ik.solve_with(ik_data, a.target, &self.rolled(a.start, i, attempts))?,
             };
             let result = match outcome {
-                IkOutcome::Converged { mut q, .. } => {
+                IkOutcome::Solved(IkSolution { mut q, .. }) => {
                     if a.k > 0 {
                         unwrap_continuous(self.problem.robot, &mut q, a.start);
                     }
@@ -330,12 +330,15 @@ impl<'a> Prepared<'a> {
                         self.check_waypoint(a.base, &q, a.k, a.continuing, settings, scratch)?;
                     (q, failure)
                 }
-                IkOutcome::NotConverged {
-                    mut best,
-                    position_error,
-                    rotation_error,
-                    ..
-                } => {
+                IkOutcome::Infeasible(IkFailure { best, .. })
+                | IkOutcome::Timeout(best)
+                | IkOutcome::Cancelled(best) => {
+                    let IkBest {
+                        q: mut best,
+                        position_error,
+                        rotation_error,
+                        ..
+                    } = best;
                     if a.k > 0 {
                         unwrap_continuous(self.problem.robot, &mut best, a.start);
                     }
