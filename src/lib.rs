@@ -4,6 +4,7 @@
 pub mod control;
 pub mod discovery;
 pub mod error;
+pub mod prelude;
 pub mod scene;
 pub mod task;
 pub use control::{Outcome, Termination};

@@ -1,8 +1,6 @@
 //! Integration tests, compiled as one binary.
 
 mod backends;
-#[cfg(feature = "cli")]
-mod cli;
 mod discovery;
 #[cfg(feature = "pinocchio")]
 mod kinematics;

@@ -66,6 +66,23 @@ pub enum Error {
         /// The parser's message, with line and column where it gives them.
         message: String,
     },
+    /// A goal or plan file could not be read (or is not UTF-8).
+    #[error("cannot read {}: {message}", path.display())]
+    Io {
+        /// The file.
+        path: std::path::PathBuf,
+        /// The operating system's message.
+        message: String,
+    },
+    /// The goal or plan file at `path` was read but its contents were rejected.
+    #[error("{}: {source}", path.display())]
+    InFile {
+        /// The file.
+        path: std::path::PathBuf,
+        /// Why it was rejected.
+        #[source]
+        source: Box<Error>,
+    },
     /// Bodies already collide in the start state: a modelling error (a drawer inside its
     /// counter, a door through its carcass) that no plan can repair, since every sweep starts
     /// in contact. Lists every colliding pair.

@@ -19,6 +19,7 @@
 //! sweep) and leaves them wherever the plan ends.
 
 use std::collections::BTreeMap;
+use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
@@ -281,6 +282,28 @@ pub struct Problem {
 }
 
 impl Problem {
+    /// Reads the goal file at `path` (JSON if its name ends in `.json`, TOML otherwise; the
+    /// [module docs](self) give the schema) and resolves it against `model`.
+    ///
+    /// # Errors
+    /// [`Error::Io`] if the file cannot be read; otherwise [`Error::InFile`] naming the file,
+    /// around the error of [`GoalSpec::from_toml`] / [`GoalSpec::from_json`] or
+    /// [`Problem::from_spec`].
+    pub fn from_goal_file(model: &SceneModel, path: impl AsRef<Path>) -> Result<Self, Error> {
+        let path = path.as_ref();
+        let text = read_text(path)?;
+        let is_json = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+        let spec = if is_json {
+            GoalSpec::from_json(&text)
+        } else {
+            GoalSpec::from_toml(&text)
+        };
+        spec.and_then(|spec| Problem::from_spec(model, &spec))
+            .map_err(|e| in_file(path, e))
+    }
+
     /// Resolves a goal document against `model`.
     ///
     /// # Errors
@@ -341,4 +364,20 @@ fn exact(v: f64, tol: f64) -> Option<Interval> {
         min: v - tol,
         max: v + tol,
     })
+}
+
+/// The text of the file at `path`.
+pub(crate) fn read_text(path: &Path) -> Result<String, Error> {
+    std::fs::read_to_string(path).map_err(|e| Error::Io {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })
+}
+
+/// `e`, as an error of the file at `path`.
+pub(crate) fn in_file(path: &Path, e: Error) -> Error {
+    Error::InFile {
+        path: path.to_path_buf(),
+        source: Box::new(e),
+    }
 }

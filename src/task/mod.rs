@@ -133,6 +133,7 @@
 mod baseline;
 mod check;
 mod conflict;
+mod diagnose;
 mod error;
 mod goal;
 mod greedy;
@@ -147,6 +148,7 @@ mod settings;
 mod start;
 mod validate;
 
+pub use diagnose::conflicting_targets;
 pub use error::Error;
 pub use goal::{
     DEFAULT_ROBOT_RADIUS, DEFAULT_TOLERANCE, Goal, GoalSpec, Interval, Problem, Robot, RobotSpec,

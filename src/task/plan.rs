@@ -373,6 +373,17 @@ impl PlanFile {
         })
     }
 
+    /// Reads the plan document at `path`.
+    ///
+    /// # Errors
+    /// [`Error::Io`] if the file cannot be read; [`Error::InFile`] naming the file around
+    /// [`Error::Parse`].
+    pub fn from_file(path: impl AsRef<std::path::Path>) -> Result<Self, Error> {
+        let path = path.as_ref();
+        let text = super::goal::read_text(path)?;
+        Self::from_json(&text).map_err(|e| super::goal::in_file(path, e))
+    }
+
     /// The document as pretty JSON.
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).unwrap_or_default()

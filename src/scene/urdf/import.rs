@@ -40,6 +40,18 @@ pub fn read_file(path: impl AsRef<Path>, options: &ImportOptions) -> Result<Scen
     read_str(&xml, &options)
 }
 
+impl SceneModel {
+    /// Reads a scene URDF file with the default [`ImportOptions`]: [`read_file`], relative mesh
+    /// paths resolved against the file's directory. For `package://` URIs, use [`read_file`]
+    /// with [`ImportOptions::package_paths`].
+    ///
+    /// # Errors
+    /// As [`read_file`].
+    pub fn from_urdf_file(path: impl AsRef<Path>) -> Result<SceneModel, Error> {
+        read_file(path, &ImportOptions::default())
+    }
+}
+
 /// Reads a scene URDF document (see the [module docs](super) for the conventions). Relative
 /// mesh paths resolve against `options.base_dir` (the current directory if `None`).
 ///

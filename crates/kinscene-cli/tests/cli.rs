@@ -7,8 +7,13 @@ use std::process::{Command, Output};
 
 use serde_json::Value;
 
+/// The repository's root, where the example scenes and the shipped robot are.
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
 fn kitchen_path() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/kitchen.urdf")
+    repo().join("examples/scenes/kitchen.urdf")
 }
 
 fn kinscene(args: &[&str]) -> Output {
@@ -260,9 +265,7 @@ fn usage_errors_exit_2() {
 // ----- plan and validate -----
 
 fn goal_path(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("examples/scenes/goals")
-        .join(name)
+    repo().join("examples/scenes/goals").join(name)
 }
 
 fn arg(path: &Path) -> &str {
@@ -577,30 +580,15 @@ fn plan_and_validate_help_print_the_schemas() {
 }
 
 /// A counter whose front face is the plane x = 0 and a drawer front sliding out along -x, its
-/// handle at 0.75 m (the README's planner example, as URDF).
-const COUNTER_URDF: &str = r#"<robot name="counter">
-  <link name="room">
-    <collision name="counter"><origin xyz="0.3 0 0.45"/><geometry><box size="0.6 2 0.9"/></geometry></collision>
-  </link>
-  <link name="drawer">
-    <collision><geometry><box size="0.02 0.4 0.2"/></geometry></collision>
-  </link>
-  <joint name="drawer_slide" type="prismatic">
-    <parent link="room"/><child link="drawer"/>
-    <origin xyz="-0.02 0 0.75"/><axis xyz="-1 0 0"/>
-    <limit lower="0" upper="0.35" effort="0" velocity="0"/>
-  </joint>
-  <link name="drawer_handle"/>
-  <joint name="drawer_handle_joint" type="fixed">
-    <parent link="drawer"/><child link="drawer_handle"/>
-    <origin xyz="-0.03 0 0" rpy="0 0 3.141592653589793"/>
-  </joint>
-</robot>"#;
+/// handle at 0.75 m (the README's planner example).
+fn counter_path() -> PathBuf {
+    repo().join("examples/scenes/counter.urdf")
+}
 
 #[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
 #[test]
 fn plan_with_a_robot_writes_base_and_arm_paths_with_timing() {
-    let scene = scratch_file("counter.urdf", COUNTER_URDF);
+    let scene = counter_path();
     let goal = scratch_file(
         "counter_goal.toml",
         "[goal]\ndrawer_slide = { min = 0.25 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
@@ -646,7 +634,7 @@ fn plan_with_a_robot_writes_base_and_arm_paths_with_timing() {
 
 #[test]
 fn plan_with_a_bad_robot_file_is_bad_input() {
-    let scene = scratch_file("counter2.urdf", COUNTER_URDF);
+    let scene = counter_path();
     let goal = scratch_file(
         "counter_goal2.toml",
         "[goal]\ndrawer_slide = { min = 0.25 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
@@ -783,7 +771,7 @@ fn breakfast_with_the_gen3_is_infeasible_with_the_reach_in_numbers() {
 /// `--robot robot` and then `args`.
 #[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
 fn plan_counter_with(tag: &str, robot: &str, args: &[&str]) -> Output {
-    let scene = scratch_file(&format!("counter_{tag}.urdf"), COUNTER_URDF);
+    let scene = counter_path();
     let goal = scratch_file(
         &format!("counter_goal_{tag}.toml"),
         "[goal]\ndrawer_slide = { min = 0.25 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
@@ -804,7 +792,7 @@ fn plan_counter_with(tag: &str, robot: &str, args: &[&str]) -> Output {
 /// The shipped Gen3's URDF file.
 #[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
 fn gen3_urdf() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/kinova_gen3_mobile.urdf")
+    repo().join("robots/kinova_gen3_mobile.urdf")
 }
 
 #[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
@@ -821,7 +809,7 @@ fn the_tool_link_of_a_robot_urdf_is_named_on_the_command_line() {
     let line = assert_bad_input(&run("gen3", "end_effector_link"));
     assert!(line.contains("--tool-link"), "{line}");
     // Without a robot the flag means nothing (clap's usage error).
-    let scene = scratch_file("counter_tool.urdf", COUNTER_URDF);
+    let scene = counter_path();
     let output = kinscene(&[
         "plan",
         "--scene",
@@ -865,7 +853,7 @@ fn plan_with_a_robot_srdf() {
         line.contains("disable_collisions") && line.contains("link2"),
         "{line}"
     );
-    let srdf = Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/kinova_gen3_mobile.srdf");
+    let srdf = repo().join("robots/kinova_gen3_mobile.srdf");
     let line = assert_bad_input(&run("gen3", arg(&srdf)));
     assert!(line.contains("--srdf"), "{line}");
     let output = run(arg(&urdf), arg(&srdf));

@@ -1,4 +1,5 @@
-//! The `kinscene` command-line tool (behind the `cli` feature).
+//! The `kinscene` command-line tool (the `kinscene-cli` package; the library carries no argument
+//! parser).
 //!
 //! ```text
 //! kinscene inspect  --scene S.urdf [--package NAME=PATH ...]

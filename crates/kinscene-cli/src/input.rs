@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use kinscene::scene::SceneModel;
 use kinscene::scene::urdf::{ImportOptions, read_file};
-use kinscene::task::{GoalSpec, PlanFile, Problem};
+use kinscene::task::{PlanFile, Problem};
 
 use crate::CliError;
 
@@ -56,44 +56,25 @@ impl SceneArgs {
     }
 }
 
-/// The contents of a text file.
-///
-/// # Errors
-/// A [`CliError`] naming the file if it cannot be read or is not UTF-8.
-fn read_text(path: &Path) -> Result<String, CliError> {
-    std::fs::read_to_string(path)
-        .map_err(|e| CliError::new(format!("cannot read {}: {e}", path.display())))
-}
-
 /// A [`CliError`] for a problem with the file at `path`: `<path>: <message>`.
 pub fn file_error(path: &Path, e: impl std::fmt::Display) -> CliError {
     CliError::new(format!("{}: {e}", path.display()))
 }
 
-/// Reads the goal document at `path` (JSON if its name ends in `.json`, TOML otherwise,
-/// schema in [`kinscene::task::GoalSpec`]) and resolves it against `model`.
+/// Reads the goal document at `path` and resolves it against `model`
+/// ([`Problem::from_goal_file`]: JSON if its name ends in `.json`, TOML otherwise).
 ///
 /// # Errors
 /// A [`CliError`] naming the file: unreadable, malformed, an unknown joint, a target or start
 /// value outside the joint's limits, an invalid robot.
 pub fn load_problem(model: &SceneModel, path: &Path) -> Result<Problem, CliError> {
-    let text = read_text(path)?;
-    let is_json = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
-    let spec = if is_json {
-        GoalSpec::from_json(&text)
-    } else {
-        GoalSpec::from_toml(&text)
-    }
-    .map_err(|e| file_error(path, e))?;
-    Problem::from_spec(model, &spec).map_err(|e| file_error(path, e))
+    Problem::from_goal_file(model, path).map_err(|e| CliError::new(e.to_string()))
 }
 
-/// Reads the plan document at `path` (schema in [`kinscene::task::PlanFile`]).
+/// Reads the plan document at `path` ([`PlanFile::from_file`]).
 ///
 /// # Errors
 /// A [`CliError`] naming the file: unreadable or malformed.
 pub fn load_plan(path: &Path) -> Result<PlanFile, CliError> {
-    PlanFile::from_json(&read_text(path)?).map_err(|e| file_error(path, e))
+    PlanFile::from_file(path).map_err(|e| CliError::new(e.to_string()))
 }

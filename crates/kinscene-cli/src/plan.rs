@@ -31,9 +31,8 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::time::Duration;
 
-use kinscene::scene::SceneModel;
 use kinscene::task::{
-    Goal, NoRefinement, Outcome, PlanFile, Problem, Strategy, TaskSettings, Termination, plan,
+    NoRefinement, Outcome, PlanFile, Strategy, TaskSettings, Termination, conflicting_targets, plan,
 };
 
 use crate::input::{SceneArgs, file_error, load_problem};
@@ -273,55 +272,6 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<Verdict, CliError> {
             .map_err(|e| CliError::new(format!("cannot write the plan: {e}")))?,
     }
     Ok(verdict)
-}
-
-/// A minimal set of goal targets that no plan meets together, for an infeasible `problem`
-/// with at least two targets; `None` with fewer targets or if `termination` stops a plan first.
-///
-/// The deletion filter: for each target in turn, plan without it (and without the targets
-/// dropped so far); if that is still infeasible, drop it. Every kept target `t` was kept
-/// because the remaining targets without `t` had a plan, and that plan also meets any subset
-/// of them: so dropping any one target of the result leaves a goal with a plan, while the
-/// result itself has none (it is the input, or a set the planner found infeasible).
-///
-/// # Errors
-/// As [`plan`] (not expected: the problem already passed it).
-fn conflicting_targets(
-    model: &SceneModel,
-    problem: &Problem,
-    settings: &TaskSettings,
-    termination: &Termination<'_>,
-) -> Result<Option<Vec<String>>, kinscene::task::Error> {
-    let mut kept = problem.goal.targets().to_vec();
-    if kept.len() < 2 {
-        return Ok(None);
-    }
-    let mut k = 0;
-    while k < kept.len() {
-        let mut goal = Goal::empty();
-        for (i, (joint, interval)) in kept.iter().enumerate() {
-            if i != k {
-                goal.set(model, *joint, *interval)?;
-            }
-        }
-        let without = Problem {
-            start: problem.start.clone(),
-            goal,
-            robot: problem.robot,
-        };
-        match plan(model, &without, settings, &NoRefinement, termination)?.outcome {
-            Outcome::Infeasible(_) => {
-                kept.remove(k);
-            }
-            Outcome::Solved(_) => k += 1,
-            Outcome::Timeout(_) | Outcome::Cancelled(_) => return Ok(None),
-        }
-    }
-    Ok(Some(
-        kept.iter()
-            .map(|(joint, _)| model.joints()[joint.index()].name.clone())
-            .collect(),
-    ))
 }
 
 #[cfg(test)]
