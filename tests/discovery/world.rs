@@ -16,7 +16,7 @@ use nalgebra::{
 };
 use parry3d_f64::math::{Pose, Rotation, Vector};
 use parry3d_f64::query::Ray;
-use parry3d_f64::shape::{Ball, Capsule, Cuboid, Cylinder, SharedShape};
+use parry3d_f64::shape::SharedShape;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -290,25 +290,7 @@ fn place(
     shape: &Shape,
     world_from_shape: &Isometry3<f64>,
 ) -> Option<(SharedShape, Pose, Point3<f64>, f64)> {
-    let mut shape_from_parry = Isometry3::identity();
-    let s = match shape {
-        Shape::Cuboid { half_extents } => SharedShape::new(Cuboid::new(vec(half_extents))),
-        Shape::Sphere { radius } => SharedShape::new(Ball::new(*radius)),
-        Shape::Capsule { radius, length } => SharedShape::new(Capsule::new(
-            Vector::new(0.0, 0.0, -length / 2.0),
-            Vector::new(0.0, 0.0, length / 2.0),
-            *radius,
-        )),
-        Shape::Cylinder { radius, length } => {
-            shape_from_parry = Isometry3::rotation(Vector3::x() * std::f64::consts::FRAC_PI_2);
-            SharedShape::new(Cylinder::new(length / 2.0, *radius))
-        }
-        Shape::ConvexMesh { vertices, .. } => {
-            let pts: Vec<_> = vertices.iter().map(|p| vec(&p.coords)).collect();
-            SharedShape::convex_hull(&pts)?
-        }
-        _ => return None,
-    };
+    let (s, shape_from_parry) = kinscene::scene::collision::parry_shape(shape).ok()?;
     let sphere = shape.bounding_sphere();
     Some((
         s,

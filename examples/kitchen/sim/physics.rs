@@ -31,7 +31,7 @@ use kinscene::scene::{JointKind, Parent, SceneModel, Shape};
 use nalgebra::{Isometry3, Point3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use rapier3d_f64::math::{Pose, Rotation, Vector};
 use rapier3d_f64::parry::query::contact;
-use rapier3d_f64::parry::shape::{Ball, Capsule, Cuboid, Cylinder, SharedShape};
+use rapier3d_f64::parry::shape::SharedShape;
 use rapier3d_f64::prelude::{
     ActiveHooks, ColliderBuilder, ColliderHandle, GenericJointBuilder, ImpulseJointHandle,
     InteractionGroups, JointAxesMask, JointAxis, MotorModel, MultibodyJointHandle,
@@ -173,30 +173,11 @@ fn to_point(v: Vector) -> Point3<f64> {
     Point3::new(v.x, v.y, v.z)
 }
 
-/// A scene shape as a parry shape and the pose of parry's frame in the shape frame (parry's
-/// cylinder runs along y, URDF's along z).
+/// A scene shape as a parry shape and the pose of parry's frame in the shape frame (the
+/// library's conversion, the shapes its collision checks use).
 fn parry_shape(shape: &Shape, what: &str) -> Result<(SharedShape, Isometry3<f64>), SimError> {
-    let mut shape_from_parry = Isometry3::identity();
-    let s = match shape {
-        Shape::Cuboid { half_extents } => SharedShape::new(Cuboid::new(to_vector(half_extents))),
-        Shape::Sphere { radius } => SharedShape::new(Ball::new(*radius)),
-        Shape::Capsule { radius, length } => SharedShape::new(Capsule::new(
-            Vector::new(0.0, 0.0, -length / 2.0),
-            Vector::new(0.0, 0.0, length / 2.0),
-            *radius,
-        )),
-        Shape::Cylinder { radius, length } => {
-            shape_from_parry = Isometry3::rotation(Vector3::x() * std::f64::consts::FRAC_PI_2);
-            SharedShape::new(Cylinder::new(length / 2.0, *radius))
-        }
-        Shape::ConvexMesh { vertices, .. } => {
-            let points: Vec<Vector> = vertices.iter().map(|p| to_vector(&p.coords)).collect();
-            SharedShape::convex_hull(&points)
-                .ok_or_else(|| SimError::Setup(format!("{what}: convex hull failed")))?
-        }
-        _ => return Err(SimError::Setup(format!("{what}: unsupported shape"))),
-    };
-    Ok((s, shape_from_parry))
+    kinscene::scene::collision::parry_shape(shape)
+        .map_err(|e| SimError::Setup(format!("{what}: {e}")))
 }
 
 /// The density (kg/m³) that gives a collider a furniture-like mass: solid chipboard for thin

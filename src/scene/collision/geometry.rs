@@ -11,6 +11,61 @@ use super::convert;
 use crate::scene::Error;
 use crate::scene::shape::{BoundingSphere, Shape};
 
+/// A scene [`Shape`] as a parry shape, with the pose of parry's frame in the shape's frame:
+/// the identity except for a cylinder (parry's runs along y, a scene cylinder along z). The
+/// shape the collision checks use, for programs that query parry themselves or hand the shape
+/// to a physics engine built on parry (rapier); [`parry`](super::parry) is the parry crate
+/// this returns.
+///
+/// # Errors
+/// [`Error::DegenerateMesh`] if parry cannot build a convex mesh's hull.
+///
+/// # Example
+/// ```
+/// use kinscene::scene::Shape;
+/// use kinscene::scene::collision::parry_shape;
+/// use nalgebra::{Point3, Vector3};
+///
+/// let (cylinder, shape_from_parry) = parry_shape(&Shape::Cylinder { radius: 0.1, length: 0.4 })?;
+/// // Parry's axis (y) is the scene cylinder's axis (z).
+/// let axis = shape_from_parry * Vector3::y();
+/// assert!((axis - Vector3::z()).norm() < 1e-12);
+/// assert!(cylinder.as_cylinder().is_some());
+/// # Ok::<(), kinscene::scene::Error>(())
+/// ```
+pub fn parry_shape(shape: &Shape) -> Result<(SharedShape, Isometry3<f64>), Error> {
+    let mut shape_from_parry = Isometry3::identity();
+    let compiled = match shape {
+        Shape::Cuboid { half_extents } => {
+            SharedShape::new(Cuboid::new(convert::vector(half_extents)))
+        }
+        Shape::Sphere { radius } => SharedShape::new(Ball::new(*radius)),
+        Shape::Capsule { radius, length } => SharedShape::new(Capsule::new(
+            convert::vector(&Vector3::new(0.0, 0.0, -length / 2.0)),
+            convert::vector(&Vector3::new(0.0, 0.0, length / 2.0)),
+            *radius,
+        )),
+        Shape::Cylinder { radius, length } => {
+            // parry's cylinder runs along y; a +90° turn about x maps y onto z.
+            shape_from_parry = Isometry3::rotation(Vector3::x() * std::f64::consts::FRAC_PI_2);
+            SharedShape::new(Cylinder::new(length / 2.0, *radius))
+        }
+        Shape::ConvexMesh { vertices, .. } => {
+            let points: Vec<_> = vertices.iter().map(convert::point).collect();
+            // parry's hull code has panicked on near-degenerate input in the past; the
+            // builder already rejects flat point clouds, this keeps a panic from escaping.
+            let hull = catch_unwind(AssertUnwindSafe(|| SharedShape::convex_hull(&points)))
+                .ok()
+                .flatten();
+            hull.ok_or_else(|| Error::DegenerateMesh {
+                what: "convex mesh".to_string(),
+                reason: "convex hull construction failed".into(),
+            })?
+        }
+    };
+    Ok((compiled, shape_from_parry))
+}
+
 /// A shape ready for parry queries, with its placement in its owner's frame (the part frame,
 /// or the world frame for base shapes).
 #[derive(Clone)]
@@ -42,35 +97,13 @@ impl CompiledShape {
         owner_from_shape: &Isometry3<f64>,
         what: &str,
     ) -> Result<Self, Error> {
-        let mut shape_from_parry = Isometry3::identity();
-        let compiled = match shape {
-            Shape::Cuboid { half_extents } => {
-                SharedShape::new(Cuboid::new(convert::vector(half_extents)))
-            }
-            Shape::Sphere { radius } => SharedShape::new(Ball::new(*radius)),
-            Shape::Capsule { radius, length } => SharedShape::new(Capsule::new(
-                convert::vector(&Vector3::new(0.0, 0.0, -length / 2.0)),
-                convert::vector(&Vector3::new(0.0, 0.0, length / 2.0)),
-                *radius,
-            )),
-            Shape::Cylinder { radius, length } => {
-                // parry's cylinder runs along y; a +90° turn about x maps y onto z.
-                shape_from_parry = Isometry3::rotation(Vector3::x() * std::f64::consts::FRAC_PI_2);
-                SharedShape::new(Cylinder::new(length / 2.0, *radius))
-            }
-            Shape::ConvexMesh { vertices, .. } => {
-                let points: Vec<_> = vertices.iter().map(convert::point).collect();
-                // parry's hull code has panicked on near-degenerate input in the past; the
-                // builder already rejects flat point clouds, this keeps a panic from escaping.
-                let hull = catch_unwind(AssertUnwindSafe(|| SharedShape::convex_hull(&points)))
-                    .ok()
-                    .flatten();
-                hull.ok_or_else(|| Error::DegenerateMesh {
-                    what: what.to_string(),
-                    reason: "convex hull construction failed".into(),
-                })?
-            }
-        };
+        let (compiled, shape_from_parry) = parry_shape(shape).map_err(|e| match e {
+            Error::DegenerateMesh { reason, .. } => Error::DegenerateMesh {
+                what: what.to_string(),
+                reason,
+            },
+            e => e,
+        })?;
         let local = shape.bounding_sphere();
         Ok(CompiledShape {
             shape: compiled,

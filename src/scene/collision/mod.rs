@@ -17,6 +17,9 @@ mod settings;
 mod standoff;
 mod sweep;
 
+pub use geometry::parry_shape;
+/// The parry crate the collision checks use ([`parry_shape`] returns its shapes).
+pub use parry3d_f64 as parry;
 pub use query::{Contact, collisions, collisions_of, distances, is_collision_free};
 pub use settings::{AllowedCollisions, Body, BodyName, CollisionSettings, SweepSettings};
 pub use standoff::handle_standoff;
