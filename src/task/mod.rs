@@ -12,7 +12,7 @@
 //! path, opening a door part-way, re-opening at the end.
 //!
 //! # Feasibility of an action
-//! See the predicate in `check.rs`, summarised: (1) the moving part and its descendants sweep
+//! See the predicate in `check/mod.rs`, summarised: (1) the moving part and its descendants sweep
 //! without touching any other part or the base, **certified over the whole continuous
 //! motion** by [`check_joint_motion`](crate::scene::collision::check_joint_motion) (samples
 //! spaced by the scene's motion bound, exact parry distances, adaptive refinement — not the

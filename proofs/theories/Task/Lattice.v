@@ -1,13 +1,13 @@
 (** * Lattice: the finite state space of the task search (theorems 3 and 4).
 
-    Models src/task/lattice.rs and the move relation of src/task/search.rs [run]:
+    Models src/task/lattice.rs and the move relation of src/task/search/expand.rs:
     - a lattice state is a [Key]: one value index per joint (the Rust [Key = Vec<u16>]);
       joint [j] has [nth j sizes 0] values ([Lattice::values(j).len()]), so a state is
       [valid] iff it has one entry per joint and every entry is below its joint's size;
     - a [Move] changes one joint to another index of its set ([Item::Edge { joint, to }]);
       [apply] is [next[j] = to];
-    - [moves sizes A k] is the successor loop of [run] when a node is closed: every joint [j]
-      with [active[j]], every [to] in [0..len] with [to != key[j]], in that order;
+    - [moves sizes A k] is the successor loop of [push_moves] when a node is closed: every
+      joint [j] with [active[j]], every [to] in [0..len] with [to != key[j]], in that order;
       [is_move] is the same relation as a proposition ([In_moves]);
     - [path sizes A feasible k ms k']: [ms] is a sequence of moves over the joints of [A], each
       feasible ([feasible k m = true]) in the state it is applied to, leading from [k] to [k'].

@@ -2,7 +2,7 @@
     [search::run] with its static pre-checks (theorems 3 and 4 for the current code).
 
     Search.v models a round in which every popped move is evaluated at once, and Rounds.v
-    rounds that run until exhausted. The Rust round (src/task/search.rs, [run]) does two more
+    rounds that run until exhausted. The Rust round (src/task/search/, [run]) does two more
     things, modelled here:
     - THE MOVE RE-QUEUE. An [Item::Edge] carries a flag [bounded]; edges are pushed with
       [bounded = (settings.cost.travel == 0.0)] ([b0] here). When an unbounded edge whose

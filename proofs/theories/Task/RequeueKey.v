@@ -1,7 +1,8 @@
 (** * RequeueKey: the key of a re-queued move is a lower bound.
 
     Models the priority arithmetic of the move re-queue in [search::run]
-    (src/task/search.rs) and [Checker::move_bound] (src/task/check.rs), over real numbers:
+    (src/task/search/expand.rs) and [Checker::move_bound] (src/task/check/bound.rs), over
+    real numbers:
     - [move_bound] is the loop of [Checker::move_bound] over the move's manipulation region:
       for each region entry [r] whose cell is free in the state before the move ([cands]),
       [near = aw·r.actuation + tw·|cell − robot|] and, only [if near < best],

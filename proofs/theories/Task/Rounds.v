@@ -1,7 +1,7 @@
 (** * Rounds: the active-set rounds of the search — the projection lemma and the whole
     planner (theorems 3 and 4).
 
-    Models the outer [loop] of [search::run] (src/task/search.rs) and the "Active joints"
+    Models the rounds of [search::run] (src/task/search/pass.rs) and the "Active joints"
     paragraph of src/task/mod.rs:
     - a round is the search of Search.v over the moves of the active joints [act]
       ([active: Vec<bool>]); it returns a plan, or is exhausted with its failed evaluations;

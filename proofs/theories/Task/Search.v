@@ -1,10 +1,10 @@
 (** * Search: one round of the lattice search terminates, is complete and sound
     (theorems 3 and 4).
 
-    Models one round of [search::run] (src/task/search.rs: the body of [loop], i.e. the
-    [while let Some(entry) = heap.pop()] loop for a fixed active set [A]) as a generic
+    Models one round of [search::run] (src/task/search/pass.rs: [Search::round], i.e. the
+    [while let Some(entry) = round.open.pop()] loop for a fixed active set [A]) as a generic
     worklist graph search:
-    - [config]: the closed set ([closed: HashSet<Key>]), the pending items ([heap]: edges
+    - [config]: the closed set ([closed: HashSet<Key>]), the pending items ([open]: edges
       and nodes), the failed evaluations of the round ([failures]) and the result;
     - [Node k p]: a state to close, reached by the plan [p] ([Item::Node]; the Rust node
       stores a parent pointer, [path_to] rebuilds [p]); [Edge k p m]: a move out of the
@@ -176,7 +176,7 @@ Definition init : config := mkConfig [] [Node start []] [] None.
 Definition edges (k : Key) (p : list Move) (cl : list Key) : list item :=
   map (Edge k p) (filter (fun m => negb (mem (apply k m) cl)) (moves sizes A k)).
 
-(** One iteration of the [while let Some(entry) = heap.pop()] loop, [it] popped. *)
+(** One iteration of the [while let Some(entry) = round.open.pop()] loop, [it] popped. *)
 Definition process (it : item) (rest : list item) (c : config) : config :=
   match it with
   | Node k p =>
