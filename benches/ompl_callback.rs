@@ -1,7 +1,7 @@
 //! Cost of OMPL calling a Rust state validity checker, against a C++ checker doing the same
 //! computation in the same run, plus the time to plan through a small maze.
 //!
-//! `cargo bench --bench ompl_callback -- --warm-up-time 1 --measurement-time 3`
+//! `cargo bench --bench ompl_callback --features bench -- --warm-up-time 1 --measurement-time 3`
 //!
 //! One criterion iteration is one sweep of `SpaceInformation::isValid` over `STATES`
 //! pre-sampled states (time measured inside the shim, `iter_custom`); throughput is in

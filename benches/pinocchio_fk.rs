@@ -5,7 +5,7 @@
 //! work (`forwardKinematics` + `updateFramePlacement`) in a C++ loop inside the shim, in the same
 //! run, so the difference is the cost of the Rust layer and the FFI crossing.
 //!
-//! Run: `cargo bench --bench pinocchio_fk --no-default-features --features pinocchio`.
+//! Run: `cargo bench --bench pinocchio_fk --no-default-features --features pinocchio,bench`.
 
 use std::f64::consts::FRAC_PI_2;
 use std::hint::black_box;

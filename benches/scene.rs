@@ -179,11 +179,14 @@ fn fk(c: &mut Criterion) {
                 pin::forward_kinematics(&pin_model, &mut pin_data, black_box(&q)).expect("fk")
             })
         });
-        // The last part's frame: updateFramePlacement of one frame on top of the FK pass.
+        // The last part's frame: updateFramePlacement of one frame on top of the FK pass (the C++
+        // loop is the backend's benchmark support, `--features bench`).
+        #[cfg(feature = "bench")]
         let frame = pin_model
             .joint(JointIndex(model.nq()))
             .expect("joint")
             .frame;
+        #[cfg(feature = "bench")]
         group.bench_function("pinocchio_cpp_loop", |b| {
             b.iter_custom(|iterations| {
                 pin::bench::cpp_forward_kinematics_loop(

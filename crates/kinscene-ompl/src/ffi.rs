@@ -52,6 +52,7 @@ pub(crate) struct PlanResult {
 }
 
 /// `ks_ompl_bench_result`.
+#[cfg(feature = "bench")]
 #[repr(C)]
 #[derive(Default)]
 pub(crate) struct BenchResult {
@@ -75,6 +76,7 @@ type PlanFnPtr = unsafe extern "C" fn(
 ) -> c_int;
 type SetSeedFnPtr = unsafe extern "C" fn(u64, *mut c_char, usize) -> c_int;
 type SetLogLevelFnPtr = unsafe extern "C" fn(i32, *mut c_char, usize) -> c_int;
+#[cfg(feature = "bench")]
 type BenchFnPtr = unsafe extern "C" fn(
     f64,
     f64,
@@ -94,6 +96,7 @@ pub(crate) struct Api {
     pub plan: PlanFnPtr,
     pub set_seed: SetSeedFnPtr,
     pub set_log_level: SetLogLevelFnPtr,
+    #[cfg(feature = "bench")]
     pub bench_validity: BenchFnPtr,
 }
 
@@ -118,6 +121,7 @@ fn load() -> Result<Api, LoadError> {
             plan: shim.function::<PlanFnPtr>("ks_ompl_plan")?,
             set_seed: shim.function::<SetSeedFnPtr>("ks_ompl_set_seed")?,
             set_log_level: shim.function::<SetLogLevelFnPtr>("ks_ompl_set_log_level")?,
+            #[cfg(feature = "bench")]
             bench_validity: shim.function::<BenchFnPtr>("ks_ompl_bench_validity")?,
             _shim: shim,
         }

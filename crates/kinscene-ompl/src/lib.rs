@@ -38,6 +38,7 @@
 
 #![warn(missing_docs)]
 
+#[cfg(feature = "bench")]
 pub mod bench;
 mod checker;
 mod error;

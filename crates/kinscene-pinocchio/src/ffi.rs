@@ -189,6 +189,7 @@ pub(crate) struct Api {
         usize,
     ) -> c_int,
     pub neutral: unsafe extern "C" fn(*const RawModel, *mut f64, *mut c_char, usize) -> c_int,
+    #[cfg(feature = "bench")]
     #[allow(clippy::type_complexity)]
     pub bench_forward_kinematics: unsafe extern "C" fn(
         *const RawModel,
@@ -243,6 +244,7 @@ fn load() -> Result<Api, LoadError> {
             integrate: shim.function("ks_pin_integrate")?,
             difference: shim.function("ks_pin_difference")?,
             neutral: shim.function("ks_pin_neutral")?,
+            #[cfg(feature = "bench")]
             bench_forward_kinematics: shim.function("ks_pin_bench_forward_kinematics")?,
             _shim: shim,
         })

@@ -66,6 +66,7 @@ mod kinematics;
 mod model;
 mod urdf;
 
+#[cfg(feature = "bench")]
 pub mod bench;
 
 pub use builder::{ModelBuilder, UNIVERSE_NAME};

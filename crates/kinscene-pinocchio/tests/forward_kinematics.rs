@@ -8,7 +8,7 @@
 use std::f64::consts::PI;
 
 use kinscene_pinocchio::{
-    Data, FrameIndex, JointIndex, JointKind, JointLimits, ModelBuilder, bench, forward_kinematics,
+    Data, FrameIndex, JointIndex, JointKind, JointLimits, ModelBuilder, forward_kinematics,
     frame_placement, joint_placement,
 };
 use nalgebra::{DVector, Isometry3, Translation3, UnitQuaternion, Vector3};
@@ -243,13 +243,16 @@ fn limits_and_sizes_are_reported() {
     assert_eq!(kinscene_pinocchio::pinocchio_version().unwrap(), "4.1.0");
 }
 
+#[cfg(feature = "bench")]
 #[test]
 fn cpp_benchmark_loop_runs() {
     let arm = three_link_arm();
     let mut data = Data::new(&arm.model).unwrap();
     let q = DVector::from_vec(vec![0.3, 0.2, 0.1]);
-    let elapsed =
-        bench::cpp_forward_kinematics_loop(&arm.model, &mut data, &q, arm.tool, 100).unwrap();
+    let elapsed = kinscene_pinocchio::bench::cpp_forward_kinematics_loop(
+        &arm.model, &mut data, &q, arm.tool, 100,
+    )
+    .unwrap();
     assert!(elapsed.as_nanos() > 0);
     // The loop leaves placements unspecified: reading them needs a new forward_kinematics.
     assert!(frame_placement(&arm.model, &data, arm.tool).is_err());
