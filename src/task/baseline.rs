@@ -47,7 +47,6 @@ use std::time::Instant;
 
 use nalgebra::Point2;
 
-use super::grid::Blocked;
 use super::lattice::Lattice;
 use super::plan::{
     BodyName, Cause, Failure, Infeasibility, Outcome, Partial, Plan, PlanResult, SearchStats, Step,
@@ -57,6 +56,7 @@ use crate::scene::collision::geometry::WorldBox;
 use crate::scene::collision::{Body, collisions};
 use crate::scene::motion::grasp_trajectory;
 use crate::scene::nav::occupancy;
+use crate::scene::nav::search::Blocked;
 use crate::scene::{
     BaseShapeId, JointId, JointKind, PartId, SceneData, SceneModel, State, forward_kinematics,
 };

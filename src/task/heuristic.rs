@@ -38,10 +38,10 @@ use std::cell::OnceCell;
 use super::Error;
 use super::check::Checker;
 use super::goal::Problem;
-use super::grid::{Blocked, Flood};
 use super::lattice::Lattice;
 use super::reach::ancestor_joints;
 use super::settings::TaskSettings;
+use crate::scene::nav::search::{Blocked, Flood};
 use crate::scene::{JointId, JointKind, SceneData, SceneModel, State, forward_kinematics};
 
 /// Ancestor value combinations beyond which a goal joint gets no travel bound.

@@ -137,7 +137,6 @@ mod diagnose;
 mod error;
 mod goal;
 mod greedy;
-mod grid;
 mod heuristic;
 mod lattice;
 mod plan;

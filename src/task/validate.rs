@@ -1,7 +1,7 @@
 //! The independent plan validator: replays a plan with dense checks and the goal test.
 //!
 //! [`validate`] shares no code path with the search's feasibility predicate (`check/`,
-//! `grid.rs`, `reach.rs`, [`check_joint_motion`](crate::scene::collision::check_joint_motion)):
+//! `scene/nav/search.rs`, `reach.rs`, [`check_joint_motion`](crate::scene::collision::check_joint_motion)):
 //! it uses only the scene layer's state queries ([`collisions_of`], [`occupancy`],
 //! [`part_footprint`], [`grasp_trajectory`], [`max_displacement`]) and its own grid search, so
 //! that a bug in the search's memo, keys or certified sweep shows up as a rejected plan.

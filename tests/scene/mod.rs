@@ -10,6 +10,7 @@ mod kinematics;
 mod kitchen;
 mod nested_bound;
 mod properties;
+mod route;
 mod state;
 mod sweep;
 mod sweep_soundness;

@@ -8,9 +8,12 @@
 
 pub(crate) mod footprint;
 mod grid;
+mod route;
+pub(crate) mod search;
 mod settings;
 mod shadow;
 
 pub use footprint::{footprint, occupancy, part_footprint};
 pub use grid::NavGrid;
+pub use route::{NoRoute, Route, route};
 pub use settings::{GridBounds, MAX_GRID_CELLS, NavGridSettings};

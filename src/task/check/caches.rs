@@ -7,7 +7,7 @@ use std::sync::{Arc, Mutex};
 use super::occupancy::Occupancy;
 use super::region::RegionCell;
 use super::{Key, SweepKey, SweepVerdict};
-use crate::task::grid::{CellMask, Distances};
+use crate::scene::nav::search::{CellMask, Distances};
 use crate::task::refine::Refinement;
 
 /// Caches owned by one search (not shared across threads).

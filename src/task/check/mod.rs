@@ -34,11 +34,11 @@ pub(crate) use caches::Caches;
 
 use super::Error;
 use super::goal::Problem;
-use super::grid::{Blocked, Disc};
 use super::lattice::Lattice;
 use super::plan::Cause;
 use super::reach::{ancestor_joints, sweep_contexts};
 use super::settings::TaskSettings;
+use crate::scene::nav::search::{Blocked, Disc};
 use crate::scene::nav::{NavGrid, occupancy};
 use crate::scene::{HandleId, JointId, SceneData, SceneModel, State, forward_kinematics};
 

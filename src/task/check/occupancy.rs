@@ -5,9 +5,9 @@ use std::sync::{Arc, Mutex};
 
 use super::caches::{CACHE_LIMIT, Caches, OCCUPANCY_LIMIT, bounded_to};
 use super::{Checker, Error};
+use crate::scene::nav::search::{Blocked, Flood, set_cells};
 use crate::scene::nav::{footprint, part_footprint};
 use crate::scene::{PartId, SceneData, State, forward_kinematics};
-use crate::task::grid::{Blocked, Flood, set_cells};
 
 /// Occupancy of one state: blocked cells, and the start's free component explored on demand.
 pub(crate) struct Occupancy {

@@ -7,8 +7,8 @@ use super::caches::{Caches, bounded};
 use super::{Checker, Error};
 use crate::scene::motion::motion_bound;
 use crate::scene::nav::part_footprint;
+use crate::scene::nav::search::{CellMask, Disc, set_cells};
 use crate::scene::{JointId, PartId, SceneData, State, forward_kinematics};
-use crate::task::grid::{CellMask, Disc, set_cells};
 
 impl Checker<'_> {
     /// The swept footprint of moving `joint` to lattice value `to` in state `key`.

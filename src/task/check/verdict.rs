@@ -7,8 +7,8 @@ use std::sync::{Arc, Mutex};
 use super::caches::{Caches, TRAVEL_LIMIT, bounded_to};
 use super::region::RegionCell;
 use super::{Blockers, Checker, Choice, Error, SweepVerdict, Verdict};
+use crate::scene::nav::search::{Blocked, Distances};
 use crate::scene::{JointId, SceneData};
-use crate::task::grid::{Blocked, Distances};
 use crate::task::plan::Cause;
 use crate::task::refine::{MoveContext, Refinement, Refiner};
 

@@ -1,9 +1,10 @@
-//! Grid search on the navigation grid: reachability and travel distances for the robot base.
+//! Grid searches on the navigation grid for the task search: reachability (flood fill) and
+//! travel distances (Dijkstra) of the robot base, and the inflated footprints they run on.
 
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
-use crate::scene::nav::NavGrid;
+use super::NavGrid;
 
 /// The 8 neighbour offsets and their step lengths in cells.
 const STEPS: [(isize, isize, f64); 8] = [
@@ -423,8 +424,8 @@ impl Distances {
 
 #[cfg(test)]
 mod tests {
+    use super::NavGrid;
     use super::*;
-    use crate::scene::nav::NavGrid;
     use nalgebra::Point2;
 
     /// A deterministic pseudo-random grid with about one cell in `density` occupied.
