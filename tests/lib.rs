@@ -5,8 +5,6 @@ mod discovery;
 #[cfg(feature = "pinocchio")]
 mod kinematics;
 #[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
-mod kitchen;
-#[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
 mod motion;
 #[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
 mod planner;

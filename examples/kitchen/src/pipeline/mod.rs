@@ -42,14 +42,10 @@ use super::report::svg;
 use super::sim;
 
 pub use config::{Config, EstimatorChoice, Experiment, ExploreScope, Method};
-// For tests/kitchen (the binary itself calls it through the session).
-#[allow(unused_imports)]
-pub use stages::selection_order;
-pub use summary::Report;
-// For the tests (the binary does not use them).
-#[allow(unused_imports)]
 pub use manipulation::{Category, PRISMATIC_TOLERANCE, REVOLUTE_TOLERANCE};
 pub use sequences::{EXTRA_SEQUENCES, SEQUENCES};
+pub use stages::selection_order;
+pub use summary::Report;
 
 use manipulation::Planning;
 use output::Outputs;
@@ -235,7 +231,7 @@ pub fn run(config: &Config, out: Option<&Path>, progress: bool) -> Result<Report
             scene: SceneSummary {
                 file: config
                     .scene
-                    .strip_prefix(env!("CARGO_MANIFEST_DIR"))
+                    .strip_prefix(crate::repository())
                     .unwrap_or(&config.scene)
                     .display()
                     .to_string(),

@@ -7,7 +7,6 @@
 
 use std::collections::BTreeMap;
 use std::f64::consts::FRAC_PI_4;
-use std::path::Path;
 
 use kinscene::motion::timing::{TimedPath, time_parameterise};
 use kinscene::planner::{MotionPlan, StepMotion, StepTiming};
@@ -18,7 +17,7 @@ use kinscene::scene::{
 use kinscene::task::{Plan, Step};
 use nalgebra::{Isometry2, Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 
-use super::report::svg::{
+use crate::report::svg::{
     self, Series, SvgError, TITLE_HEIGHT_PX, TopViewOptions, bar_chart, line_chart, stacked_bars,
     top_view, top_view_with,
 };
@@ -241,7 +240,7 @@ fn same_point_set(got: &[(f64, f64)], want: &[(f64, f64)], tol: f64) -> bool {
 // Scenes and plans.
 
 fn kitchen() -> SceneModel {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/kitchen.urdf");
+    let path = crate::repository().join("examples/scenes/kitchen.urdf");
     urdf::read_file(path, &ImportOptions::default()).expect("examples/scenes/kitchen.urdf loads")
 }
 

@@ -60,7 +60,6 @@ pub fn attempts(
                     plan: None,
                     execution: None,
                     trace: Vec::new(),
-                    planning_wall: 0.0,
                 },
                 None,
             ),

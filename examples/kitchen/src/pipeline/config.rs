@@ -254,7 +254,7 @@ impl Default for Config {
     /// per planner call.
     fn default() -> Self {
         Config {
-            scene: PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/kitchen.urdf"),
+            scene: crate::repository().join("examples/scenes/kitchen.urdf"),
             seed: 1,
             runs: 5,
             depth_noise: 0.005,

@@ -10,7 +10,6 @@
 //!   at 90° lies across y 2.23..2.25, which A's sweep crosses.
 
 use std::f64::consts::FRAC_PI_2;
-use std::path::Path;
 
 use kinscene::Termination;
 use kinscene::discovery::{Camera, Hardware, HardwareFailure, LocalGoal, Perception};
@@ -29,11 +28,11 @@ use nalgebra::{
     Vector2, Vector3,
 };
 
-use super::sim::sensors::Owner;
-use super::sim::{FailureCategory, Faults, GraspCompliance, SimSettings, SimWorld};
+use crate::sim::sensors::Owner;
+use crate::sim::{FailureCategory, Faults, GraspCompliance, SimSettings, SimWorld};
 
 fn kitchen() -> SceneModel {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/kitchen.urdf");
+    let path = crate::repository().join("examples/scenes/kitchen.urdf");
     read_file(&path, &ImportOptions::default()).expect("the shipped kitchen loads")
 }
 

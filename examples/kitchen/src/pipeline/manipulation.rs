@@ -3,7 +3,7 @@
 //! and judged on the true state.
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use kinscene::discovery::{Observation, reconcile};
 use kinscene::planner::{
@@ -109,19 +109,16 @@ pub struct Attempt {
     pub execution: Option<Execution>,
     /// The executed base trace.
     pub trace: Vec<nalgebra::Isometry2<f64>>,
-    /// Wall-clock planning time (s).
-    pub planning_wall: f64,
 }
 
 impl Attempt {
-    fn without_plan(verdict: Verdict, document: Option<MotionDocument>, wall: f64) -> Self {
+    fn without_plan(verdict: Verdict, document: Option<MotionDocument>) -> Self {
         Attempt {
             verdict,
             document,
             plan: None,
             execution: None,
             trace: Vec::new(),
-            planning_wall: wall,
         }
     }
 }
@@ -170,8 +167,6 @@ pub struct Translated {
     pub problem: Problem,
     /// Estimated joint name → true joint name.
     pub names: BTreeMap<String, String>,
-    /// Start joints the estimated model has no part for (they stay unknown to the planner).
-    pub unknown_start: Vec<String>,
 }
 
 /// Translates `goal` to the estimated model `est` through `matches`. `Err` is the reason it
@@ -245,7 +240,6 @@ pub fn translate(
         *e = e.max(*min);
     }
     let mut est_start = Vec::new();
-    let mut unknown_start = Vec::new();
     for (j, v) in &goal.start {
         match to_est.get(j.as_str()) {
             Some(m) if m.est_kind == m.true_kind => {
@@ -253,7 +247,8 @@ pub fn translate(
                 let e = needed.entry(m.est_joint.clone()).or_insert(*v);
                 *e = e.max(*v);
             }
-            _ => unknown_start.push(j.clone()),
+            // Start joints the estimated model has no part for stay unknown to the planner.
+            _ => {}
         }
     }
     let mut builder = est.to_builder();
@@ -293,7 +288,6 @@ pub fn translate(
         model,
         problem,
         names,
-        unknown_start,
     })
 }
 
@@ -404,7 +398,6 @@ pub fn plan_and_execute(
     names: &BTreeMap<String, String>,
     cached: Option<&PlannerResult>,
 ) -> Result<(Attempt, Option<PlannerResult>), PipelineError> {
-    let t0 = Instant::now();
     let result = match cached {
         Some(r) => r.clone(),
         None => match p
@@ -414,14 +407,10 @@ pub fn plan_and_execute(
             Ok(r) => r,
             Err(e) => {
                 let v = Verdict::failed(Category::Other, format!("planner error: {e}"));
-                return Ok((
-                    Attempt::without_plan(v, None, t0.elapsed().as_secs_f64()),
-                    None,
-                ));
+                return Ok((Attempt::without_plan(v, None), None));
             }
         },
     };
-    let wall = t0.elapsed().as_secs_f64();
     let document = MotionDocument::from_result(&result, p.planner.robot().name());
     let attempt = match &result.outcome {
         MotionOutcome::Solved(plan) => {
@@ -432,7 +421,6 @@ pub fn plan_and_execute(
                 plan: Some(plan.clone()),
                 execution: Some(execution),
                 trace,
-                planning_wall: wall,
             }
         }
         MotionOutcome::Infeasible(why) => {
@@ -440,17 +428,12 @@ pub fn plan_and_execute(
             if let Some(v) = why.vetoes.first() {
                 reason.push_str(&format!(" (first veto: {v})"));
             }
-            Attempt::without_plan(
-                Verdict::failed(Category::Other, reason),
-                Some(document),
-                wall,
-            )
+            Attempt::without_plan(Verdict::failed(Category::Other, reason), Some(document))
         }
         MotionOutcome::Timeout(progress) | MotionOutcome::Cancelled(progress) => {
             Attempt::without_plan(
                 Verdict::failed(Category::Other, format!("planner timeout: {progress}")),
                 Some(document),
-                wall,
             )
         }
     };
@@ -471,7 +454,6 @@ pub fn random(
     goal: &TrueGoal,
     seed: u64,
 ) -> Result<Attempt, PipelineError> {
-    let t0 = Instant::now();
     let settings = TaskSettings {
         strategy: Strategy::Random { seed },
         ..p.planner.settings().task.clone()
@@ -481,7 +463,7 @@ pub fn random(
         Ok(r) => r,
         Err(e) => {
             let v = Verdict::failed(Category::Other, format!("task layer error: {e}"));
-            return Ok(Attempt::without_plan(v, None, t0.elapsed().as_secs_f64()));
+            return Ok(Attempt::without_plan(v, None));
         }
     };
     let robot = p.planner.robot().name().to_string();
@@ -515,25 +497,20 @@ pub fn random(
                 category,
                 format!("task layer rejects the order: {}", why.message),
             );
-            return Ok(Attempt::without_plan(
-                v,
-                Some(document),
-                t0.elapsed().as_secs_f64(),
-            ));
+            return Ok(Attempt::without_plan(v, Some(document)));
         }
         Outcome::Timeout(_) | Outcome::Cancelled(_) => {
             let v = Verdict::failed(Category::Other, "task layer timeout");
-            return Ok(Attempt::without_plan(v, None, t0.elapsed().as_secs_f64()));
+            return Ok(Attempt::without_plan(v, None));
         }
     };
     let refined = match p.planner.refine(&t.model, &t.problem, &plan, &termination) {
         Ok(r) => r,
         Err(e) => {
             let v = Verdict::failed(Category::Other, format!("refinement error: {e}"));
-            return Ok(Attempt::without_plan(v, None, t0.elapsed().as_secs_f64()));
+            return Ok(Attempt::without_plan(v, None));
         }
     };
-    let wall = t0.elapsed().as_secs_f64();
     match refined {
         RefineOutcome::Solved(mplan) => {
             let document = doc(MotionOutcome::Solved(mplan.clone()), &result.stats);
@@ -544,7 +521,6 @@ pub fn random(
                 plan: Some(mplan),
                 execution: Some(execution),
                 trace,
-                planning_wall: wall,
             })
         }
         RefineOutcome::Infeasible(failure) => {
@@ -567,13 +543,11 @@ pub fn random(
             Ok(Attempt::without_plan(
                 Verdict::failed(category, reason),
                 Some(document),
-                wall,
             ))
         }
         RefineOutcome::Timeout(step) | RefineOutcome::Cancelled(step) => Ok(Attempt::without_plan(
             Verdict::failed(Category::Other, format!("refinement timeout: {step}")),
             None,
-            wall,
         )),
     }
 }

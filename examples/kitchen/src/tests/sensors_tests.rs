@@ -2,7 +2,7 @@
 //! helper): hand-built snapshots of parry shapes at known poses, whose hits follow from plane
 //! geometry, plus the kitchen itself against a brute-force ray cast.
 
-use super::sim::sensors::{
+use crate::sim::sensors::{
     CameraSettings, DetectorSettings, Owner, Placed, SensorSettingsError, TrueHandle, detect,
     head_rays, render, tilt_towards, wrist_rays,
 };
@@ -530,7 +530,7 @@ fn equal_seeds_give_equal_detections() {
 /// its stowed configuration, as a snapshot like the simulator's.
 fn kitchen_snapshot(base: [f64; 3]) -> Vec<Placed> {
     let model = urdf::read_file(
-        "examples/scenes/kitchen.urdf",
+        crate::repository().join("examples/scenes/kitchen.urdf"),
         &urdf::ImportOptions::default(),
     )
     .expect("the shipped kitchen loads");

@@ -1,9 +1,9 @@
 //! The kitchen: the paper's three stages on a simulated kitchen, and its experiments.
 //!
 //! ```sh
-//! bash setup.sh && cargo run --release --example kitchen                # the full run
-//! cargo run --release --example kitchen -- --quick                      # small sizes
-//! cargo run --release --example kitchen -- --experiments fig5,table2 --runs 3 --seed 7
+//! bash setup.sh && cargo run --release -p kinscene-kitchen              # the full run
+//! cargo run --release -p kinscene-kitchen -- --quick                    # small sizes
+//! cargo run --release -p kinscene-kitchen -- --experiments fig5,table2 --runs 3 --seed 7
 //! ```
 //!
 //! A mobile manipulator (the Kinova Gen3 on an omnidirectional base) in a rapier3d physics
@@ -14,22 +14,13 @@
 //! Fig. 6), `report.json`, `plans/*.json` (the plan documents and execution records),
 //! `twin.urdf` (the estimated scene) and SVG pictures.
 
-// The modules are shared with the tests (tests/kitchen), which use items this binary does
-// not.
-#[allow(dead_code)]
-mod pipeline;
-#[allow(dead_code)]
-mod report;
-#[allow(dead_code)]
-mod sim;
-
 use std::io::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
 
-use pipeline::{Config, EstimatorChoice, Experiment, ExploreScope};
+use kinscene_kitchen::pipeline::{self, Config, EstimatorChoice, Experiment, ExploreScope};
 
 /// The kitchen example: mapping → articulation discovery → scene-level manipulation in a
 /// simulated kitchen, and the paper's experiments.

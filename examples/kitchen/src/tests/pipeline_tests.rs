@@ -1,7 +1,7 @@
 //! Tests of the kitchen example's pipeline (owner: pipeline helper): the three stages end to
 //! end at reduced size, fault injection at high rates, determinism, and bad configurations.
 
-use super::pipeline::{
+use crate::pipeline::{
     Category, Config, EXTRA_SEQUENCES, EstimatorChoice, Experiment, ExploreScope, Method,
     PRISMATIC_TOLERANCE, PipelineError, REVOLUTE_TOLERANCE, Report, SEQUENCES, run,
 };
@@ -178,7 +178,7 @@ fn stacked_handles_are_explored_lowest_first() {
     use kinscene::discovery::MappedHandle;
     use nalgebra::{Point3, Vector3};
 
-    use super::pipeline::selection_order;
+    use crate::pipeline::selection_order;
 
     let at = |x: f64, y: f64, z: f64| MappedHandle {
         position: Point3::new(x, y, z),

@@ -1,0 +1,6 @@
+//! The simulator, pipeline and report, tested in place.
+
+mod pipeline_tests;
+mod sensors_tests;
+mod sim_tests;
+mod svg_tests;
