@@ -77,6 +77,7 @@ mod interface;
 mod log;
 mod part;
 mod placement;
+mod prediction;
 mod reconcile;
 mod registration;
 mod run;
