@@ -72,6 +72,7 @@ mod algorithm;
 mod cloud;
 mod error;
 mod explore;
+mod front;
 mod fusion;
 mod interface;
 mod log;
