@@ -1,8 +1,10 @@
 //! Register (Algorithm 1, last line): one estimated part and joint into the scene model.
+//! The part's front, its boxes and its handle's grasp point are in `front.rs`.
 
 use nalgebra::{Isometry3, Point3, Translation3, Unit, UnitQuaternion, Vector3};
 
-use super::cloud::{OrientedBox, VoxelIndex, components, connected_to, oriented_box_along};
+use super::cloud::{VoxelIndex, connected_to};
+use super::front::{front, grasp_point, part_boxes};
 use super::settings::DiscoverySettings;
 use super::shapes::PlacedShape;
 use crate::kinematics::articulation::{Estimate, JointEstimate, PointCloud};
@@ -19,7 +21,7 @@ const SEED_RADIUS: f64 = 0.06;
 /// Connectivity radius (m) of the part's points: points of one surface seen by a depth camera
 /// at a metre are millimetres to a centimetre apart; separate surfaces (the floor below a
 /// door) are farther.
-const CONNECTIVITY: f64 = 0.03;
+pub(super) const CONNECTIVITY: f64 = 0.03;
 /// The fallback segmentation's change threshold is at least this multiple of the median
 /// pre → post nearest-neighbour distance (the sampling and noise scale of the scene).
 const NOISE_MULTIPLIER: f64 = 4.0;
@@ -57,6 +59,20 @@ impl NewPart {
     }
 }
 
+/// An estimated joint in the map frame, oriented so that the observed opening is positive.
+pub(super) struct JointLine {
+    pub(super) kind: JointKind,
+    /// Unit axis, map frame.
+    pub(super) axis: Vector3<f64>,
+    /// A point on the axis: the foot of the perpendicular from the contact (revolute), the
+    /// contact (prismatic).
+    pub(super) origin: Point3<f64>,
+    /// The observed opening (rad or m), at least 0.
+    pub(super) motion: f64,
+    /// The joint's upper limit: the opening or the default upper limit, the larger.
+    pub(super) upper: f64,
+}
+
 /// Builds the part of handle `index` from `estimate` (see [`discover`](super::discover) for
 /// the rules). `Err` carries the reason the estimate cannot be registered.
 pub(crate) fn new_part(
@@ -69,6 +85,58 @@ pub(crate) fn new_part(
 ) -> Result<NewPart, String> {
     let mut notes = Vec::new();
     let c = observed.contact_pre;
+    let line = joint_line(estimate, c, s, &mut notes)?;
+    let (mut spec, world_from_joint) = attach(index, &line, c, model, state, s)?;
+    // Part frame = joint frame at value 0 = the closed pose observed before the interaction.
+    let part_from_world = world_from_joint.inverse();
+    let points = part_points(estimate, observed, model, &line, s, &mut notes);
+    let (split, normal) = front(points, &line.axis, &observed.normal, s, &mut notes);
+    let grasp = grasp_point(&split.protrusions, &c, &mut notes);
+    let boxes = part_boxes(&split, &line, &normal, model, s, &mut notes);
+    let boxed = !boxes.is_empty();
+    for b in boxes {
+        spec = spec.with_collider(
+            Shape::cuboid(b.half_extents),
+            part_from_world * b.world_from_box(),
+        );
+    }
+    if !boxed {
+        notes.push("no part geometry: registered without a collider".into());
+    }
+    // The handle faces where its front faces: the front's fitted normal, not the normal the
+    // wrist camera estimated at the contact, which a patch at the bar's side or the front's
+    // edge tilts by tens of degrees (the planner approaches and retreats along it).
+    let handle_name = format!("{}_handle", spec.name);
+    spec = spec.with_handle(Handle::new(
+        handle_name,
+        part_from_world * grasp,
+        part_from_world * normal,
+    ));
+    let world_from_part = world_from_joint;
+    let closed = spec
+        .colliders
+        .iter()
+        .filter_map(|c| PlacedShape::new(&c.shape, &(world_from_part * c.part_from_shape)))
+        .collect();
+    let value = line.motion.min(line.upper);
+    Ok(NewPart {
+        world_motion: joint_motion(line.kind, &line.axis, &line.origin, value),
+        spec,
+        value,
+        notes,
+        closed,
+    })
+}
+
+/// The joint of `estimate` in the map frame through the contact `c` (the gravity prior
+/// applied, noted), oriented so that the observed opening is positive. `Err` for an unknown
+/// joint or non-finite numbers.
+fn joint_line(
+    estimate: &Estimate,
+    c: Point3<f64>,
+    s: &DiscoverySettings,
+    notes: &mut Vec<String>,
+) -> Result<JointLine, String> {
     // Joint in the map frame, oriented so that the observed opening is positive.
     let (kind, axis, origin, motion, default_upper) = match &estimate.joint {
         JointEstimate::Revolute { axis, pivot, angle } => {
@@ -113,7 +181,33 @@ pub(crate) fn new_part(
         (axis, motion)
     };
     let upper = motion.max(default_upper);
+    Ok(JointLine {
+        kind,
+        axis,
+        origin,
+        motion,
+        upper,
+    })
+}
 
+/// The part of handle `index` on its parent (the registered part the handle at `c` lies on at
+/// `state`, else the base), its joint at `line`'s origin with axes aligned with the map frame
+/// at discovery time; with the joint frame in the map frame.
+fn attach(
+    index: usize,
+    line: &JointLine,
+    c: Point3<f64>,
+    model: &SceneModel,
+    state: &State,
+    s: &DiscoverySettings,
+) -> Result<(PartSpec, Isometry3<f64>), String> {
+    let JointLine {
+        kind,
+        axis,
+        origin,
+        upper,
+        ..
+    } = *line;
     // Parent: the registered part the handle lies on, else the base.
     let mut data = SceneData::new(model);
     forward_kinematics(model, &mut data, state).map_err(|e| e.to_string())?;
@@ -139,12 +233,32 @@ pub(crate) fn new_part(
         axis,
         Limits::new(0.0, upper),
     );
-    // Part frame = joint frame at value 0 = the closed pose observed before the interaction.
-    let part_from_world = world_from_joint.inverse();
-    let mut spec = match parent {
+    let spec = match parent {
         Some(k) => PartSpec::on_part(name.clone(), model.parts()[k].name(), joint),
         None => PartSpec::on_base(name.clone(), joint),
     };
+    Ok((spec, world_from_joint))
+}
+
+/// The part's points at the closed pose: the estimator's, or with fewer than 4 those the
+/// fallback segmentation finds; without the points beyond the hinge line, near the base map
+/// or not connected to the contact (each drop noted).
+fn part_points(
+    estimate: &Estimate,
+    observed: &Observed<'_>,
+    model: &SceneModel,
+    line: &JointLine,
+    s: &DiscoverySettings,
+    notes: &mut Vec<String>,
+) -> Vec<Point3<f64>> {
+    let JointLine {
+        kind,
+        axis,
+        origin,
+        motion,
+        ..
+    } = *line;
+    let c = observed.contact_pre;
     let mut points = estimate.part_points.clone();
     if points.len() < 4 {
         points = segment_by_motion(observed, &joint_motion(kind, &axis, &origin, motion), s);
@@ -183,172 +297,17 @@ pub(crate) fn new_part(
             all - points.len()
         ));
     }
-    // The front's normal: the axis of the front's box nearest the normal at the contact (a
-    // plane fit around the contact tilts by a degree or two, which across a 0.6 m front is
-    // more than the handle stands out). Twice: the first box, around the handle too, leans
-    // towards it (a 2.4 cm bump at one end of a 0.5 m front tilts it by about 2.5°, and the
-    // tilted front pokes out by the hinge); the second is fitted to the front alone.
-    let at_contact = observed.normal.into_inner();
-    let front_normal = |cloud: &[Point3<f64>]| {
-        oriented_box_along(cloud, &axis, None, s.box_trim, s.min_half_extent).map(|b| {
-            let r = b.rotation.to_rotation_matrix();
-            let k = (0..3)
-                .max_by(|&i, &j| {
-                    let (a, b) = (r.matrix().column(i), r.matrix().column(j));
-                    a.dot(&at_contact)
-                        .abs()
-                        .total_cmp(&b.dot(&at_contact).abs())
-                })
-                .unwrap_or(0);
-            let n = r.matrix().column(k).into_owned();
-            if n.dot(&at_contact) < 0.0 { -n } else { n }
-        })
-    };
-    let first = front_normal(&points).unwrap_or(at_contact);
-    let normal = front_normal(&split_front(points.clone(), &first, s).front).unwrap_or(first);
-    let FrontSplit {
-        front: points,
-        protrusions,
-        dropped: noise,
-    } = split_front(points, &normal, s);
-    if !protrusions.is_empty() || noise > 0 {
-        notes.push(format!(
-            "front boxed at its median depth; {} protrusion(s) more than {} m in front of it \
-             (the handle) boxed apart ({} points), {noise} stray points dropped",
-            protrusions.len(),
-            s.handle_standoff,
-            protrusions.iter().map(Vec::len).sum::<usize>()
-        ));
-    }
-    // The grasp point: the centre of the protrusion nearest the contact (the handle as the
-    // camera saw it, hundreds of points), when one is within `HANDLE_SNAP`; else the contact
-    // (where the detector put the handle, about a centimetre off).
-    let grasp = protrusions
-        .iter()
-        .map(|cluster| {
-            let sum = cluster.iter().fold(Vector3::zeros(), |a, p| a + p.coords);
-            Point3::from(sum / cluster.len() as f64)
-        })
-        .map(|m| (m, (m - c).norm()))
-        .filter(|(_, d)| *d <= HANDLE_SNAP)
-        .min_by(|a, b| a.1.total_cmp(&b.1));
-    let grasp = match grasp {
-        Some((m, d)) => {
-            notes.push(format!(
-                "handle registered at the centre of its protrusion, {d:.3} m from the contact"
-            ));
-            m
-        }
-        None => c,
-    };
-    let mut boxes = Vec::new();
-    let clouds = std::iter::once((&points, s.box_trim)).chain(protrusions.iter().map(|p| (p, 0.0)));
-    for (k, (cloud, trim)) in clouds.enumerate() {
-        if let Some(b) = oriented_box_along(cloud, &axis, Some(&normal), trim, s.min_half_extent) {
-            if k == 0 && kind == JointKind::Prismatic && s.drawer_body {
-                let (body, note) = drawer_body(model, &b, &axis, upper);
-                boxes.extend(body);
-                notes.push(note);
-            }
-            boxes.push(b);
-        }
-    }
-    let boxed = !boxes.is_empty();
-    for b in boxes {
-        spec = spec.with_collider(
-            Shape::cuboid(b.half_extents),
-            part_from_world * b.world_from_box(),
-        );
-    }
-    if !boxed {
-        notes.push("no part geometry: registered without a collider".into());
-    }
-    // The handle faces where its front faces: the front's fitted normal, not the normal the
-    // wrist camera estimated at the contact, which a patch at the bar's side or the front's
-    // edge tilts by tens of degrees (the planner approaches and retreats along it).
-    spec = spec.with_handle(Handle::new(
-        format!("{name}_handle"),
-        part_from_world * grasp,
-        part_from_world * normal,
-    ));
-    let world_from_part = world_from_joint;
-    let closed = spec
-        .colliders
-        .iter()
-        .filter_map(|c| PlacedShape::new(&c.shape, &(world_from_part * c.part_from_shape)))
-        .collect();
-    let value = motion.min(upper);
-    Ok(NewPart {
-        world_motion: joint_motion(kind, &axis, &origin, value),
-        spec,
-        value,
-        notes,
-        closed,
-    })
+    points
 }
 
 /// The base map's shapes, placed for queries.
-fn placed_base(model: &SceneModel) -> Vec<PlacedShape> {
+pub(super) fn placed_base(model: &SceneModel) -> Vec<PlacedShape> {
     model
         .base()
         .shapes
         .iter()
         .filter_map(|b| PlacedShape::new(&b.shape, &b.world_from_shape))
         .collect()
-}
-
-/// Largest share of the front's half width and height a drawer body may lose to fit the base
-/// map's free space behind the front.
-const BODY_MAX_SHRINK: f64 = 0.4;
-
-/// Step (m) of the body's shrinking.
-const BODY_SHRINK_STEP: f64 = 0.005;
-
-/// The drawer body behind `front` (see [`DiscoverySettings::drawer_body`]), `depth` deep along
-/// `-axis` (the front box's third axis is the slide axis, pointing out of the cabinet): the
-/// front's cross-section, shrunk in [`BODY_SHRINK_STEP`]s on both sides until it is clear of
-/// every base shape at the closed pose (the cavity between the carcass panels), at most by
-/// [`BODY_MAX_SHRINK`]; `None` if it never is (a map that shows the carcass solid). With the
-/// note for the log.
-fn drawer_body(
-    model: &SceneModel,
-    front: &OrientedBox,
-    axis: &Vector3<f64>,
-    depth: f64,
-) -> (Option<OrientedBox>, String) {
-    let base = placed_base(model);
-    let h = front.half_extents;
-    let limit = BODY_MAX_SHRINK * h.x.min(h.y);
-    let mut shrink = 0.0;
-    while shrink <= limit {
-        let body = OrientedBox {
-            center: front.center - axis * (h.z + depth / 2.0),
-            rotation: front.rotation,
-            half_extents: Vector3::new(h.x - shrink, h.y - shrink, depth / 2.0),
-        };
-        let clear = PlacedShape::new(&Shape::cuboid(body.half_extents), &body.world_from_box())
-            .is_some_and(|placed| base.iter().all(|b| b.gap(&placed) > 0.0));
-        if clear {
-            return (
-                Some(body),
-                format!(
-                    "drawer body modelled behind the front, {depth:.2} m deep (its upper \
-                     limit), {:.0} mm narrower on each side than the front (clear of the base \
-                     map)",
-                    shrink * 1e3
-                ),
-            );
-        }
-        shrink += BODY_SHRINK_STEP;
-    }
-    (
-        None,
-        format!(
-            "no drawer body modelled: the base map leaves no room behind the front (checked \
-             {depth:.2} m deep, up to {:.0} mm narrower on each side)",
-            limit * 1e3
-        ),
-    )
 }
 
 /// The gravity prior of [`DiscoverySettings::axis_snap`]: `axis` (unit) projected onto the
@@ -369,85 +328,6 @@ fn level_axis(axis: &Vector3<f64>, limit: f64) -> (Vector3<f64>, Option<(f64, &'
         (up, Some((from_vertical, "vertical")))
     } else {
         (*axis, None)
-    }
-}
-
-/// A protrusion whose centre is within this distance (m) of the contact is the handle.
-const HANDLE_SNAP: f64 = 0.05;
-
-/// Fewest points of a protrusion that gets its own box (fewer: depth noise, dropped).
-const MIN_PROTRUSION_POINTS: usize = 10;
-
-/// A part's points split by [`split_front`].
-struct FrontSplit {
-    /// The front's points, clamped onto its surface.
-    front: Vec<Point3<f64>>,
-    /// Clusters standing out of it (the handle).
-    protrusions: Vec<Vec<Point3<f64>>>,
-    /// Points standing out that are noise, dropped.
-    dropped: usize,
-}
-
-impl FrontSplit {
-    /// No split: every point in the front, as given.
-    fn none(front: Vec<Point3<f64>>) -> Self {
-        FrontSplit {
-            front,
-            protrusions: Vec::new(),
-            dropped: 0,
-        }
-    }
-}
-
-/// Splits the part's points into its front and what protrudes from it. The front's surface is
-/// the median of the points' depths along the outward `normal`; points more than
-/// `handle_standoff` in front of it are protrusions (the handle, a tray on a door), grouped
-/// into connected clusters ([`CONNECTIVITY`]; clusters under [`MIN_PROTRUSION_POINTS`], or
-/// whose median stands less than 1.5 `handle_standoff` out, are depth noise at the front's
-/// edges and dropped); the front's other points are clamped onto the surface (depth
-/// noise spreads them about 2σ either side of it). One box around all of them would be as
-/// thick as the handle is proud, over the whole front, and that thickened edge by the hinge
-/// sweeps into the neighbouring front as the part turns. With `handle_standoff` 0, or when
-/// more than half of the points stand out (then the "front" is not a front), nothing is
-/// split.
-fn split_front(
-    points: Vec<Point3<f64>>,
-    normal: &Vector3<f64>,
-    s: &DiscoverySettings,
-) -> FrontSplit {
-    if points.is_empty() || s.handle_standoff <= 0.0 {
-        return FrontSplit::none(points);
-    }
-    let depth = |p: &Point3<f64>| p.coords.dot(normal);
-    let mut depths: Vec<f64> = points.iter().map(depth).collect();
-    depths.sort_by(f64::total_cmp);
-    let surface = depths[depths.len() / 2];
-    let (out, front): (Vec<Point3<f64>>, Vec<Point3<f64>>) = points
-        .iter()
-        .partition(|p| depth(p) > surface + s.handle_standoff);
-    if 2 * out.len() > points.len() {
-        return FrontSplit::none(points);
-    }
-    let front = front
-        .into_iter()
-        .map(|p| p - normal * (depth(&p) - surface).max(0.0))
-        .collect();
-    let mut clusters = Vec::new();
-    let mut dropped = 0;
-    for cluster in components(&out, CONNECTIVITY) {
-        let mut d: Vec<f64> = cluster.iter().map(depth).collect();
-        d.sort_by(f64::total_cmp);
-        let median = d[d.len() / 2] - surface;
-        if cluster.len() >= MIN_PROTRUSION_POINTS && median >= 1.5 * s.handle_standoff {
-            clusters.push(cluster);
-        } else {
-            dropped += cluster.len();
-        }
-    }
-    FrontSplit {
-        front,
-        protrusions: clusters,
-        dropped,
     }
 }
 
@@ -617,51 +497,5 @@ mod tests {
         assert_eq!(level_axis(&door, 0.0), (door, None));
         let exact = Vector3::new(0.0, 1.0, 0.0);
         assert_eq!(level_axis(&exact, limit), (exact, None));
-    }
-
-    /// A 0.4 × 0.6 m front in the plane y = 0 (outward normal −y) sampled every centimetre, a
-    /// 2 × 16 cm handle bar 3 cm in front of it, and two stray points 1.2 cm out at the far
-    /// edge (depth noise). Hand-derived: the surface (median depth) is y = 0; the handle's 2 × 17
-    /// = 34 points form one cluster standing 3 cm out; the two strays are too few (and stand
-    /// out less than 1.5 × 1 cm) and are dropped; no front point is moved (all lie on the surface).
-    #[test]
-    fn a_handle_is_split_from_the_front() {
-        let mut points = Vec::new();
-        for i in 0..=40 {
-            for k in 0..=60 {
-                points.push(Point3::new(i as f64 * 0.01, 0.0, k as f64 * 0.01));
-            }
-        }
-        let front_len = points.len();
-        for i in 0..2 {
-            for k in 0..=16 {
-                points.push(Point3::new(
-                    0.3 + i as f64 * 0.01,
-                    -0.03,
-                    0.2 + k as f64 * 0.01,
-                ));
-            }
-        }
-        points.push(Point3::new(0.0, -0.012, 0.0));
-        points.push(Point3::new(0.0, -0.012, 0.01));
-        let s = DiscoverySettings::default();
-        let FrontSplit {
-            front,
-            protrusions: clusters,
-            dropped,
-        } = split_front(points, &-Vector3::y(), &s);
-        assert_eq!(front.len(), front_len);
-        assert!(front.iter().all(|p| p.y == 0.0));
-        assert_eq!(clusters.len(), 1);
-        assert_eq!(clusters[0].len(), 34);
-        assert!(clusters[0].iter().all(|p| p.y == -0.03));
-        assert_eq!(dropped, 2);
-        // No split with the standoff off.
-        let off = DiscoverySettings {
-            handle_standoff: 0.0,
-            ..DiscoverySettings::default()
-        };
-        let none = split_front(front.clone(), &-Vector3::y(), &off);
-        assert_eq!((none.front.len(), none.protrusions.len()), (front_len, 0));
     }
 }
