@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 use super::error::{DiscoveryError, check_finite};
 use super::fusion::MappedHandle;
 use super::interface::Robot;
-use super::log::{HandleLog, Outcome, Stage};
+use super::log::{Exploration, HandleLog, Stage};
 use super::placement::FreeSpace;
 use super::reconcile::{CUTS, Observation, Reconciliation, reconcile};
 use super::run::Run;
@@ -252,7 +252,7 @@ pub fn discover(
                 }
                 Err(e) => {
                     let spec = builder.parts.pop();
-                    entry.outcome = Outcome::Failed {
+                    entry.outcome = Exploration::Failed {
                         stage: Stage::Estimation,
                         reason: format!(
                             "the scene builder rejected part {:?}: {e}",

@@ -24,7 +24,7 @@ pub enum Stage {
 
 /// How the exploration of one handle ended.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub enum Outcome {
+pub enum Exploration {
     /// A part and joint were registered into the scene model.
     Registered {
         /// The new part's name.
@@ -200,7 +200,7 @@ pub struct HandleLog {
     /// The re-detected position (m), if the handle was re-detected.
     pub detected: Option<Point3<f64>>,
     /// The outcome.
-    pub outcome: Outcome,
+    pub outcome: Exploration,
     /// Every attempt, in order.
     pub attempts: Vec<AttemptLog>,
     /// Distance (m) from the first grasp point to the last contact: how far the handle was
@@ -216,13 +216,13 @@ impl HandleLog {
     /// Whether the handle passed `stage` (a registered handle passed every stage).
     pub fn passed(&self, stage: Stage) -> bool {
         match &self.outcome {
-            Outcome::Registered { .. } => true,
-            Outcome::Failed { stage: failed, .. } => stage < *failed,
+            Exploration::Registered { .. } => true,
+            Exploration::Failed { stage: failed, .. } => stage < *failed,
         }
     }
 
     /// Whether a part was registered.
     pub fn succeeded(&self) -> bool {
-        matches!(self.outcome, Outcome::Registered { .. })
+        matches!(self.outcome, Exploration::Registered { .. })
     }
 }

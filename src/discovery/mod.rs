@@ -92,7 +92,7 @@ pub use interface::{
     Camera, HandleDetection, Hardware, HardwareFailure, LocalGoal, Perception, PointCloud, Robot,
     SensorFailure, Split,
 };
-pub use log::{AttemptEnd, AttemptLog, EstimateLog, HandleLog, MotionClass, Outcome, Stage};
+pub use log::{AttemptEnd, AttemptLog, EstimateLog, Exploration, HandleLog, MotionClass, Stage};
 pub use reconcile::{BoxCut, CUTS, Conflict, Observation, Reconciliation, reconcile};
 pub use registration::{
     Attachment, Registration, RegistrationSettings, Rejection, register_handles,

@@ -8,7 +8,7 @@ use super::error::{DiscoveryError, check_finite};
 use super::explore::{AttemptInput, attempt, checked_cloud, surface_normal};
 use super::fusion::MappedHandle;
 use super::interface::{LocalGoal, PointCloud, Robot};
-use super::log::{AttemptEnd, AttemptLog, HandleLog, MotionClass, Outcome, Stage};
+use super::log::{AttemptEnd, AttemptLog, Exploration, HandleLog, MotionClass, Stage};
 use super::part::{NewPart, Observed, new_part};
 use super::placement::{FreeSpace, horizontal, plan_base, shifted};
 use super::settings::DiscoverySettings;
@@ -27,7 +27,7 @@ pub(crate) struct Run<'a> {
 
 /// The log entry, failed at `stage` with `reason`.
 fn failed(mut entry: HandleLog, stage: Stage, reason: impl Into<String>) -> HandleLog {
-    entry.outcome = Outcome::Failed {
+    entry.outcome = Exploration::Failed {
         stage,
         reason: reason.into(),
     };
@@ -87,7 +87,7 @@ impl Run<'_> {
             index,
             mapped: h.position,
             detected: None,
-            outcome: Outcome::Failed {
+            outcome: Exploration::Failed {
                 stage: Stage::Mapping,
                 reason: String::new(),
             },
@@ -160,7 +160,7 @@ impl Run<'_> {
         match new_part(index, &estimate, &observed, model, state, s) {
             Ok(part) => {
                 entry.notes.extend(part.notes.iter().cloned());
-                entry.outcome = Outcome::Registered {
+                entry.outcome = Exploration::Registered {
                     part: part.spec.name.clone(),
                     joint: part.spec.joint.name.clone(),
                     parent: part.spec.parent.clone(),

@@ -5,8 +5,8 @@
 use std::f64::consts::FRAC_PI_2;
 
 use kinscene::discovery::{
-    AttemptEnd, Discovery, DiscoveryError, DiscoverySettings, FusionSettings, HardwareFailure,
-    MappedHandle, MotionClass, Outcome, Perception, RegistrationSettings, Stage, discover,
+    AttemptEnd, Discovery, DiscoveryError, DiscoverySettings, Exploration, FusionSettings,
+    HardwareFailure, MappedHandle, MotionClass, Perception, RegistrationSettings, Stage, discover,
     fuse_detections, register_handles,
 };
 use kinscene::kinematics::articulation::{
@@ -363,7 +363,7 @@ fn a_tray_in_a_door_is_registered_nested_on_the_door() {
     assert!(d.log[0].notes.iter().any(|n| n.contains("carried")));
     assert_eq!(
         d.log[1].outcome,
-        Outcome::Registered {
+        Exploration::Registered {
             part: "part1".into(),
             joint: "part1_slide".into(),
             parent: Some("part0".into()),
@@ -405,7 +405,7 @@ fn a_handle_with_no_part_behind_it_is_an_exploration_failure() {
         .find(|l| (l.mapped - Point3::new(0.1, -0.03, 0.3)).norm() < 0.05)
         .expect("the fixed handle was mapped");
     match &fixed.outcome {
-        Outcome::Failed { stage, .. } => assert_eq!(*stage, Stage::Exploration, "{fixed:#?}"),
+        Exploration::Failed { stage, .. } => assert_eq!(*stage, Stage::Exploration, "{fixed:#?}"),
         other => panic!("expected an exploration failure, got {other:?}"),
     }
     assert!(fixed.passed(Stage::Navigation) && !fixed.passed(Stage::Exploration));
@@ -441,7 +441,7 @@ fn a_mapped_handle_that_is_not_there_is_a_mapping_failure() {
     .unwrap();
     assert!(matches!(
         d.log[0].outcome,
-        Outcome::Failed {
+        Exploration::Failed {
             stage: Stage::Mapping,
             ..
         }

@@ -7,7 +7,7 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use kinscene::discovery::{
-    Discovery, DiscoverySettings, MappedHandle, Outcome as HandleOutcome, Stage, discover,
+    Discovery, DiscoverySettings, Exploration, MappedHandle, Stage, discover,
 };
 use kinscene::kinematics::articulation::ArticulationEstimator;
 use kinscene::scene::{BaseMap, JointKind, SceneModel};
@@ -215,11 +215,11 @@ pub fn handle_rows(truth: &[PartAxis], handles: &[MappedHandle], d: &Discovery) 
                 true_joint: nearest_part(truth, &mapped, MATCH_RADIUS)
                     .map(|i| truth[i].joint.clone()),
                 outcome: match &l.outcome {
-                    HandleOutcome::Registered { joint, parent, .. } => match parent {
+                    Exploration::Registered { joint, parent, .. } => match parent {
                         Some(p) => format!("registered {joint} (on {p})"),
                         None => format!("registered {joint}"),
                     },
-                    HandleOutcome::Failed { stage, reason } => {
+                    Exploration::Failed { stage, reason } => {
                         format!("failed at {stage:?}: {reason}")
                     }
                 },
@@ -266,7 +266,7 @@ pub fn fig6_row(
         row.mapping += usize::from(l.passed(Stage::Mapping));
         row.navigation += usize::from(l.passed(Stage::Navigation));
         row.exploration += usize::from(l.passed(Stage::Exploration));
-        if let HandleOutcome::Registered { joint, .. } = &l.outcome {
+        if let Exploration::Registered { joint, .. } = &l.outcome {
             let right = matches.iter().any(|m| {
                 &m.est_joint == joint && m.true_joint == t.joint && m.est_kind == m.true_kind
             });
@@ -409,7 +409,7 @@ pub fn table1_part(
             explored.arm_time = Some(end.arm - after.arm);
             explored.reached = world.true_state().value(jid);
             if let Some(l) = d.log.first() {
-                if let HandleOutcome::Failed { stage, reason } = &l.outcome {
+                if let Exploration::Failed { stage, reason } = &l.outcome {
                     explored.note = format!("discovery failed at {stage:?}: {reason}");
                 }
             }

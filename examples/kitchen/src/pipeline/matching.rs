@@ -3,7 +3,7 @@
 
 #[cfg(doc)]
 use kinscene::discovery::DiscoverySettings;
-use kinscene::discovery::{Discovery, Outcome};
+use kinscene::discovery::{Discovery, Exploration};
 use kinscene::kinematics::articulation::{axis_angle_error, axis_position_error};
 use kinscene::scene::{
     JointKind, Parent, SceneData, SceneModel, forward_kinematics, joint_axis, world_from_handle,
@@ -158,7 +158,7 @@ pub fn estimator_errors(matches: &mut [Match], truth: &[PartAxis], d: &Discovery
             .joint_id(&m.est_joint)
             .is_ok_and(|j| d.model.parts()[j.index()].parent() == Parent::Base);
         let estimate = d.log.iter().find_map(|l| match &l.outcome {
-            Outcome::Registered { joint, .. } if *joint == m.est_joint => l.estimate.as_ref(),
+            Exploration::Registered { joint, .. } if *joint == m.est_joint => l.estimate.as_ref(),
             _ => None,
         });
         let Some((axis, e)) = estimate.and_then(|e| Some((e.axis?, e))) else {
