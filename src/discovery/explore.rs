@@ -132,39 +132,89 @@ pub(crate) fn attempt(
         }
     };
     record(ee0, robot.time());
-    let c0 = Point3::from(ee0.translation.vector);
-    let origin = input.first_grasp.unwrap_or(c0);
     let pre_index = VoxelIndex::new(&input.o_pre.points, s.displacement_cap);
-    let mut ee = ee0;
-    let mut contact = c0;
-    let mut prev_contact = c0;
-    let mut dir = input.normal;
-    let mut first_normal: Option<Unit<Vector3<f64>>> = None;
-    let mut last_normal: Option<Unit<Vector3<f64>>> = None;
-    let mut displacement = 0.0;
+    let mut pull = Pull::new(ee0, input);
     let mut end = None;
     for i in 1..=s.max_steps {
+        end = pull.step(robot, s, i, &pre_index, &mut log, &mut record)?;
+        if end.is_some() {
+            break;
+        }
+    }
+    Ok(pull.finish(log, end, s))
+}
+
+/// A pull in progress, from the grasp on: the end effector, the contact and the compliance
+/// direction.
+struct Pull {
+    /// The end effector at the grasp.
+    ee0: Isometry3<f64>,
+    /// The end effector now.
+    ee: Isometry3<f64>,
+    /// The contact at the grasp.
+    c0: Point3<f64>,
+    /// Where the pull is measured from: the first grasp of the handle's attempts.
+    origin: Point3<f64>,
+    contact: Point3<f64>,
+    prev_contact: Point3<f64>,
+    /// The pull direction.
+    dir: Unit<Vector3<f64>>,
+    /// The first and the last surface normal seen near the contact.
+    first_normal: Option<Unit<Vector3<f64>>>,
+    last_normal: Option<Unit<Vector3<f64>>>,
+    /// The last mean displacement of the observation near the contact.
+    displacement: f64,
+}
+
+impl Pull {
+    fn new(ee0: Isometry3<f64>, input: &AttemptInput<'_>) -> Self {
+        let c0 = Point3::from(ee0.translation.vector);
+        Pull {
+            ee0,
+            ee: ee0,
+            c0,
+            origin: input.first_grasp.unwrap_or(c0),
+            contact: c0,
+            prev_contact: c0,
+            dir: input.normal,
+            first_normal: None,
+            last_normal: None,
+            displacement: 0.0,
+        }
+    }
+
+    /// Step `i`: observe and DetectFailure, GetComplianceAction, ApplyAction. `Some` ends the
+    /// attempt.
+    fn step(
+        &mut self,
+        robot: &mut dyn Robot,
+        s: &DiscoverySettings,
+        i: usize,
+        pre_index: &VoxelIndex,
+        log: &mut AttemptLog,
+        record: &mut dyn FnMut(Isometry3<f64>, f64),
+    ) -> Result<Option<AttemptEnd>, DiscoveryError> {
+        let sensor = |e: &dyn std::fmt::Display| {
+            Some(AttemptEnd::Sensor {
+                reason: e.to_string(),
+            })
+        };
         // o' and DetectFailure (same camera as o_pre, so the sampling matches).
         let o_obs = match robot.observe(s.observation_camera) {
             Ok(o) => o,
-            Err(e) => {
-                end = Some(AttemptEnd::Sensor {
-                    reason: e.to_string(),
-                });
-                break;
-            }
+            Err(e) => return Ok(sensor(&e)),
         };
         checked_cloud(&o_obs, "interaction")?;
-        let near = neighbourhood(&o_obs.points, &contact, s.displacement_radius);
-        displacement = mean_nearest_distance(&near, &pre_index).unwrap_or(0.0);
-        log.displacement = Some(displacement);
-        if (contact - origin).norm() >= s.target_pull {
-            end = Some(AttemptEnd::Success);
-            break;
+        let near = neighbourhood(&o_obs.points, &self.contact, s.displacement_radius);
+        self.displacement = mean_nearest_distance(&near, pre_index).unwrap_or(0.0);
+        log.displacement = Some(self.displacement);
+        if (self.contact - self.origin).norm() >= s.target_pull {
+            return Ok(Some(AttemptEnd::Success));
         }
-        if i > s.stall_steps && displacement < s.displacement_threshold {
-            end = Some(AttemptEnd::NoDisplacement { displacement });
-            break;
+        if i > s.stall_steps && self.displacement < s.displacement_threshold {
+            return Ok(Some(AttemptEnd::NoDisplacement {
+                displacement: self.displacement,
+            }));
         }
         // GetComplianceAction.
         let o_int = if s.interaction_camera == s.observation_camera {
@@ -175,71 +225,80 @@ pub(crate) fn attempt(
                     checked_cloud(&o, "interaction")?;
                     o
                 }
-                Err(e) => {
-                    end = Some(AttemptEnd::Sensor {
-                        reason: e.to_string(),
-                    });
-                    break;
-                }
+                Err(e) => return Ok(sensor(&e)),
             }
         };
-        let n = surface_normal(&o_int, &contact, s).filter(|n| n.angle(&dir) <= MAX_NORMAL_TURN);
+        let n = surface_normal(&o_int, &self.contact, s)
+            .filter(|n| n.angle(&self.dir) <= MAX_NORMAL_TURN);
         if n.is_some() {
-            first_normal = first_normal.or(n);
-            last_normal = n;
+            self.first_normal = self.first_normal.or(n);
+            self.last_normal = n;
         }
-        dir = compliance_direction(n, &(contact - prev_contact), &dir, s);
+        self.dir = compliance_direction(n, &(self.contact - self.prev_contact), &self.dir, s);
         // ApplyAction.
-        match robot.pull_step(&dir, s.step) {
+        match robot.pull_step(&self.dir, s.step) {
             Ok(pose) => {
-                ee = checked_pose(pose, "end-effector pose")?;
-                record(ee, robot.time());
-                prev_contact = contact;
-                contact = Point3::from(ee.translation.vector);
+                self.ee = checked_pose(pose, "end-effector pose")?;
+                record(self.ee, robot.time());
+                self.prev_contact = self.contact;
+                self.contact = Point3::from(self.ee.translation.vector);
                 log.steps += 1;
+                Ok(None)
             }
             Err(failure) => {
-                let opened = (contact - origin).norm();
-                end = Some(
-                    if opened >= s.sufficient_pull && displacement >= s.displacement_threshold {
+                let opened = (self.contact - self.origin).norm();
+                Ok(Some(
+                    if opened >= s.sufficient_pull && self.displacement >= s.displacement_threshold
+                    {
                         AttemptEnd::SuccessAfter { failure }
                     } else {
                         AttemptEnd::Pull { failure }
                     },
-                );
-                break;
+                ))
             }
         }
     }
-    let travel = (contact - c0).norm();
-    log.pull_distance = travel;
-    log.end = end.unwrap_or(
-        if displacement >= s.displacement_threshold && travel >= s.translation_threshold {
-            AttemptEnd::Success
-        } else {
-            AttemptEnd::NoDisplacement { displacement }
-        },
-    );
-    // The tracked rotation: the surface normal's turn, or the end effector's.
-    let (angle, axis) = match (first_normal, last_normal) {
-        (Some(a), Some(b)) => {
-            let c = a.cross(&b);
-            (c.norm().atan2(a.dot(&b)), c)
+
+    /// The attempt's result: how it ended (`end`, or by the travel and displacement after the
+    /// last step), the tracked rotation (the surface normal's turn, or the end effector's) and
+    /// the motion class.
+    fn finish(
+        self,
+        mut log: AttemptLog,
+        end: Option<AttemptEnd>,
+        s: &DiscoverySettings,
+    ) -> AttemptResult {
+        let travel = (self.contact - self.c0).norm();
+        log.pull_distance = travel;
+        log.end = end.unwrap_or(
+            if self.displacement >= s.displacement_threshold && travel >= s.translation_threshold {
+                AttemptEnd::Success
+            } else {
+                AttemptEnd::NoDisplacement {
+                    displacement: self.displacement,
+                }
+            },
+        );
+        let (angle, axis) = match (self.first_normal, self.last_normal) {
+            (Some(a), Some(b)) => {
+                let c = a.cross(&b);
+                (c.norm().atan2(a.dot(&b)), c)
+            }
+            _ => {
+                let r = self.ee.rotation * self.ee0.rotation.inverse();
+                (r.angle(), r.scaled_axis())
+            }
+        };
+        log.rotation = angle;
+        let displaced = self.displacement >= s.displacement_threshold;
+        log.motion = classify(angle, &axis, travel, displaced, s);
+        AttemptResult {
+            log,
+            grasp: Some(self.c0),
+            contact: Some(self.contact),
+            normal: self.last_normal.unwrap_or(self.dir),
         }
-        _ => {
-            let r = ee.rotation * ee0.rotation.inverse();
-            (r.angle(), r.scaled_axis())
-        }
-    };
-    log.rotation = angle;
-    let displaced = displacement >= s.displacement_threshold;
-    log.motion = classify(angle, &axis, travel, displaced, s);
-    Ok(AttemptResult {
-        log,
-        grasp: Some(c0),
-        contact: Some(contact),
-        normal: last_normal.unwrap_or(dir),
-    })
+    }
 }
 
 /// The pull direction: the surface normal `n` blended with the last contact motion `motion`

@@ -125,6 +125,32 @@ pub(super) fn integrate(
     amax: &[f64],
     time_step: f64,
 ) -> Option<Timing> {
+    let (intervals, caps, knots) = grid(geometry, vmax, amax, time_step);
+    let reach = backward(&intervals, &caps, &knots, amax)?;
+    let (pieces, duration) = forward(&intervals, &knots, &reach, amax, geometry)?;
+    let mut timing = Timing { pieces, duration };
+    let scale = bound_ratio(&timing, geometry, vmax, amax)?;
+    if scale > 1.0 {
+        for p in &mut timing.pieces {
+            p.t *= scale;
+            p.sd /= scale;
+            p.sdd /= scale * scale;
+        }
+        timing.duration *= scale;
+    }
+    timing.duration.is_finite().then_some(timing)
+}
+
+/// The integration grid: one interval per line, arcs cut into short intervals (each short
+/// enough for [`time_step`](super::BlendSettings::time_step) at the arc's reference speed, and
+/// for [`MAX_TURN_PER_STEP`]), the limit curves at the arcs' knots, and `caps[k]`, the most x
+/// allowed at knot k by rests (start, end, sharp corners).
+fn grid(
+    geometry: &Geometry,
+    vmax: &[f64],
+    amax: &[f64],
+    time_step: f64,
+) -> (Vec<Interval>, Vec<f64>, ArcKnots) {
     let dim = vmax.len();
     let mut first = vec![0.0; dim];
     let mut second = vec![0.0; dim];
@@ -200,8 +226,18 @@ pub(super) fn integrate(
         }
     }
     *caps.last_mut().expect("non-empty") = 0.0;
+    (intervals, caps, knots)
+}
 
-    // Backward pass: reach[k], the most x at knot k from which the end can be reached.
+/// The backward pass: `reach[k]`, the most x at knot k from which the end can be reached;
+/// `None` if the envelope breaks down (NaN or negative).
+fn backward(
+    intervals: &[Interval],
+    caps: &[f64],
+    knots: &ArcKnots,
+    amax: &[f64],
+) -> Option<Vec<f64>> {
+    let dim = amax.len();
     let n = intervals.len();
     let mut reach = vec![0.0f64; n + 1];
     let mut buffer = Vec::with_capacity(4 * dim);
@@ -213,7 +249,7 @@ pub(super) fn integrate(
             // An interval lost to rounding (s0 + width == s0): nothing to constrain.
             Kind::Arc { .. } if width <= 0.0 => reach[k + 1],
             Kind::Arc { knot } => {
-                constraints(&knots, knot, width, amax, &mut buffer);
+                constraints(knots, knot, width, amax, &mut buffer);
                 let ymax = reach[k + 1].min(knots.xv[knot + 1]);
                 let xmax = caps[k].min(knots.xv[knot]).min(knots.xa[knot]);
                 largest_start(&buffer, xmax, ymax)
@@ -223,8 +259,21 @@ pub(super) fn integrate(
             return None;
         }
     }
+    Some(reach)
+}
 
-    // Forward pass at the largest acceleration under the envelope, into timed pieces.
+/// The forward pass at the largest acceleration under the envelope `reach`, into timed pieces;
+/// with the duration.
+fn forward(
+    intervals: &[Interval],
+    knots: &ArcKnots,
+    reach: &[f64],
+    amax: &[f64],
+    geometry: &Geometry,
+) -> Option<(Vec<Piece>, f64)> {
+    let n = intervals.len();
+    let dim = amax.len();
+    let mut buffer = Vec::with_capacity(4 * dim);
     let mut pieces = Vec::with_capacity(n + 2 * geometry.segments.len());
     let mut t = 0.0;
     let mut x = 0.0;
@@ -253,7 +302,7 @@ pub(super) fn integrate(
             }
             Kind::Arc { .. } if width <= 0.0 => x = x.min(reach[k + 1]),
             Kind::Arc { knot } => {
-                constraints(&knots, knot, width, amax, &mut buffer);
+                constraints(knots, knot, width, amax, &mut buffer);
                 let ymax = reach[k + 1].min(knots.xv[knot + 1]);
                 let (lo, hi) = next_range(&buffer, x, ymax);
                 // Empty only through rounding (x ≤ reach[k] is controllable): keep the
@@ -264,20 +313,7 @@ pub(super) fn integrate(
             }
         }
     }
-    let mut timing = Timing {
-        pieces,
-        duration: t,
-    };
-    let scale = bound_ratio(&timing, geometry, vmax, amax)?;
-    if scale > 1.0 {
-        for p in &mut timing.pieces {
-            p.t *= scale;
-            p.sd /= scale;
-            p.sdd /= scale * scale;
-        }
-        timing.duration *= scale;
-    }
-    timing.duration.is_finite().then_some(timing)
+    Some((pieces, t))
 }
 
 /// Appends the piece from `(σ₀, x₀)` to `(σ₁, x₁)` (local to `iv`, `x` linear in between) if
