@@ -351,9 +351,7 @@ impl HierarchicalPlanner {
     ) -> Result<PlannerResult, PlannerError> {
         let vetoes: Mutex<Vec<VetoRule>> = Mutex::new(Vec::new());
         let mut failures: Vec<StepFailure> = Vec::new();
-        let mut task_plans = 0;
-        let mut task_time = 0.0;
-        let mut motion_time = 0.0;
+        let mut rounds = Rounds::default();
         let refiner = |ctx: &MoveContext<'_>| {
             let table = vetoes.lock().unwrap_or_else(|e| e.into_inner());
             match table
@@ -368,67 +366,36 @@ impl HierarchicalPlanner {
             }
         };
         loop {
+            let stopped = |at, vetoes| MotionOutcome::stopped(termination, Progress { at, vetoes });
             if termination.should_stop() {
-                return Ok(PlannerResult {
-                    outcome: MotionOutcome::stopped(
-                        termination,
-                        Progress {
-                            at: StopPoint::BetweenTaskPlans,
-                            vetoes: failures,
-                        },
-                    ),
-                    task_plans,
-                    task_stats: SearchStats::default(),
-                    task_time,
-                    motion_time,
-                });
+                let outcome = stopped(StopPoint::BetweenTaskPlans, failures);
+                return Ok(rounds.result(outcome, SearchStats::default()));
             }
             let t0 = Instant::now();
             let result = task::plan(model, problem, &self.settings.task, &refiner, termination)?;
-            task_time += t0.elapsed().as_secs_f64();
-            task_plans += 1;
+            rounds.task_time += t0.elapsed().as_secs_f64();
+            rounds.task_plans += 1;
             let plan = match result.outcome {
                 Outcome::Solved(plan) => plan,
                 Outcome::Infeasible(why) => {
-                    return Ok(PlannerResult {
-                        outcome: MotionOutcome::Infeasible(MotionInfeasibility {
-                            task: why,
-                            vetoes: failures,
-                        }),
-                        task_plans,
-                        task_stats: result.stats,
-                        task_time,
-                        motion_time,
+                    let outcome = MotionOutcome::Infeasible(MotionInfeasibility {
+                        task: why,
+                        vetoes: failures,
                     });
+                    return Ok(rounds.result(outcome, result.stats));
                 }
                 Outcome::Timeout(partial) | Outcome::Cancelled(partial) => {
-                    return Ok(PlannerResult {
-                        outcome: MotionOutcome::stopped(
-                            termination,
-                            Progress {
-                                at: StopPoint::TaskSearch(partial),
-                                vetoes: failures,
-                            },
-                        ),
-                        task_plans,
-                        task_stats: result.stats,
-                        task_time,
-                        motion_time,
-                    });
+                    let outcome = stopped(StopPoint::TaskSearch(partial), failures);
+                    return Ok(rounds.result(outcome, result.stats));
                 }
             };
             let t1 = Instant::now();
             let refined = self.refine_plan(model, problem, &plan, termination)?;
-            motion_time += t1.elapsed().as_secs_f64();
+            rounds.motion_time += t1.elapsed().as_secs_f64();
             match refined {
                 Refined::All(steps) => {
-                    return Ok(PlannerResult {
-                        outcome: MotionOutcome::Solved(MotionPlan { task: plan, steps }),
-                        task_plans,
-                        task_stats: result.stats,
-                        task_time,
-                        motion_time,
-                    });
+                    let outcome = MotionOutcome::Solved(MotionPlan { task: plan, steps });
+                    return Ok(rounds.result(outcome, result.stats));
                 }
                 Refined::Failed { rule, failure } => {
                     if !matches!(self.settings.task.strategy, task::Strategy::Search) {
@@ -436,39 +403,23 @@ impl HierarchicalPlanner {
                         // same order again. Their verdict is the failed step.
                         let message = format!("the baseline's order does not refine: {failure}");
                         failures.push(failure);
-                        return Ok(PlannerResult {
-                            outcome: MotionOutcome::Infeasible(MotionInfeasibility {
-                                task: Infeasibility {
-                                    message,
-                                    unreached: Vec::new(),
-                                    conflicts: Vec::new(),
-                                    start_collisions: Vec::new(),
-                                },
-                                vetoes: failures,
-                            }),
-                            task_plans,
-                            task_stats: result.stats,
-                            task_time,
-                            motion_time,
+                        let outcome = MotionOutcome::Infeasible(MotionInfeasibility {
+                            task: Infeasibility {
+                                message,
+                                unreached: Vec::new(),
+                                conflicts: Vec::new(),
+                                start_collisions: Vec::new(),
+                            },
+                            vetoes: failures,
                         });
+                        return Ok(rounds.result(outcome, result.stats));
                     }
                     vetoes.lock().unwrap_or_else(|e| e.into_inner()).push(rule);
                     failures.push(failure);
                 }
                 Refined::Stopped(step) => {
-                    return Ok(PlannerResult {
-                        outcome: MotionOutcome::stopped(
-                            termination,
-                            Progress {
-                                at: StopPoint::Refining(step),
-                                vetoes: failures,
-                            },
-                        ),
-                        task_plans,
-                        task_stats: result.stats,
-                        task_time,
-                        motion_time,
-                    });
+                    let outcome = stopped(StopPoint::Refining(step), failures);
+                    return Ok(rounds.result(outcome, result.stats));
                 }
             }
         }
@@ -575,6 +526,27 @@ impl HierarchicalPlanner {
 /// before it refined), or [`Timeout`](crate::Outcome::Timeout) /
 /// [`Cancelled`](crate::Outcome::Cancelled) with the step being refined ([`Check::Stopped`]).
 pub type RefineOutcome = crate::Outcome<MotionPlan, StepFailure, StepFailure>;
+
+/// What the rounds of [`HierarchicalPlanner::plan`] have counted: task searches and the time in
+/// each layer.
+#[derive(Default)]
+struct Rounds {
+    task_plans: usize,
+    task_time: f64,
+    motion_time: f64,
+}
+
+impl Rounds {
+    fn result(&self, outcome: MotionOutcome, task_stats: SearchStats) -> PlannerResult {
+        PlannerResult {
+            outcome,
+            task_plans: self.task_plans,
+            task_stats,
+            task_time: self.task_time,
+            motion_time: self.motion_time,
+        }
+    }
+}
 
 /// How refining a task plan ended.
 enum Refined {

@@ -521,7 +521,7 @@ pub(crate) fn paper(
     // on which goal joints it moved.
     let mut memo: HashMap<(Vec<usize>, usize), MoveCheck> = HashMap::new();
     let mut conflicts: HashMap<(usize, String), (usize, Failure)> = HashMap::new();
-    let mut best: Vec<(Move, [f64; 3], String)> = Vec::new();
+    let mut best: Vec<Accepted> = Vec::new();
     let mut order: Vec<usize> = (0..moves.len()).collect();
     let finish = |outcome: Outcome, mut stats: SearchStats| {
         stats.elapsed = started.elapsed();
@@ -529,27 +529,8 @@ pub(crate) fn paper(
     };
     loop {
         if total.is_some_and(|t| tried.len() as u64 >= t) {
-            let mut grouped: Vec<(usize, Failure)> = conflicts.into_values().collect();
-            grouped.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.joint.cmp(&b.1.joint)));
-            let conflicts: Vec<Failure> = grouped
-                .into_iter()
-                .take(MAX_CONFLICTS)
-                .map(|(_, f)| f)
-                .collect();
-            let message = match conflicts.first() {
-                Some(f) => format!(
-                    "every one of the {} orders of the goal joints is rejected; e.g. {f}",
-                    tried.len()
-                ),
-                None => "every order of the goal joints is rejected".into(),
-            };
-            let unreached = moves.iter().map(|m| joint_name(model, m.joint)).collect();
-            let why = Infeasibility {
-                message,
-                unreached,
-                conflicts,
-                start_collisions: start_collisions(model, problem, settings)?,
-            };
+            let why =
+                every_order_rejected(model, problem, settings, &moves, tried.len(), conflicts)?;
             return Ok(finish(Outcome::Infeasible(why), stats));
         }
         if termination.should_stop() || stats.samples >= settings.max_samples {
@@ -569,34 +550,15 @@ pub(crate) fn paper(
         let mut failure = (0..order.len()).find_map(|i| boxes.conflict(&order, i));
         let mut accepted = Vec::with_capacity(order.len());
         if failure.is_none() {
-            let mut key = start.clone();
-            for &g in &order {
-                let m = moves[g];
-                let verdict = match memo.get(&(key.clone(), g)) {
-                    Some(v) => v.clone(),
-                    None => {
-                        stats.evaluated += 1;
-                        let v = feasibility.check(&key, m.joint, targets[g])?;
-                        memo.insert((key.clone(), g), v.clone());
-                        v
-                    }
-                };
-                match verdict {
-                    MoveCheck::Feasible { base, handle } => {
-                        accepted.push((m, base, handle));
-                        key[m.joint.index()] = targets[g];
-                    }
-                    MoveCheck::Infeasible(cause) => {
-                        failure = Some(Failure {
-                            joint: joint_name(model, m.joint),
-                            from: problem.start.q[m.joint.index()],
-                            to: m.to,
-                            cause,
-                        });
-                        break;
-                    }
-                }
-            }
+            let mut paths = OrderCheck {
+                model,
+                problem,
+                moves: &moves,
+                targets: &targets,
+                feasibility: &mut feasibility,
+                memo: &mut memo,
+            };
+            failure = paths.check(&order, &start, &mut accepted, &mut stats)?;
         }
         match failure {
             None => {
@@ -607,18 +569,116 @@ pub(crate) fn paper(
                 if accepted.len() > best.len() {
                     best = accepted;
                 }
-                let signature = match &f.cause {
-                    Cause::Collision { moving, other, .. } => format!("box {moving} {other}"),
-                    c => c.to_string(),
-                };
-                let index = moves
-                    .iter()
-                    .position(|m| joint_name(model, m.joint) == f.joint);
-                conflicts
-                    .entry((index.unwrap_or(usize::MAX), signature))
-                    .and_modify(|(n, _)| *n += 1)
-                    .or_insert((1, f));
+                record_conflict(model, &moves, &mut conflicts, f);
             }
         }
     }
+}
+
+/// An accepted goal move: the move, the base pose it is made from (x, y, yaw) and the handle.
+type Accepted = (Move, [f64; 3], String);
+
+/// The robot-path check of one order of the goal moves, with the verdicts memoised by
+/// (lattice state, goal index): the state after a prefix depends only on which goal joints it
+/// moved.
+struct OrderCheck<'a, 'f> {
+    model: &'a SceneModel,
+    problem: &'a Problem,
+    moves: &'a [Move],
+    targets: &'a [usize],
+    feasibility: &'a mut Feasibility<'f>,
+    memo: &'a mut HashMap<(Vec<usize>, usize), MoveCheck>,
+}
+
+impl OrderCheck<'_, '_> {
+    /// Checks the moves of `order` in turn from the lattice state `start`, pushing the
+    /// feasible ones to `accepted`; the first failure, if any.
+    fn check(
+        &mut self,
+        order: &[usize],
+        start: &[usize],
+        accepted: &mut Vec<Accepted>,
+        stats: &mut SearchStats,
+    ) -> Result<Option<Failure>, Error> {
+        let mut key = start.to_vec();
+        for &g in order {
+            let m = self.moves[g];
+            let verdict = match self.memo.get(&(key.clone(), g)) {
+                Some(v) => v.clone(),
+                None => {
+                    stats.evaluated += 1;
+                    let v = self.feasibility.check(&key, m.joint, self.targets[g])?;
+                    self.memo.insert((key.clone(), g), v.clone());
+                    v
+                }
+            };
+            match verdict {
+                MoveCheck::Feasible { base, handle } => {
+                    accepted.push((m, base, handle));
+                    key[m.joint.index()] = self.targets[g];
+                }
+                MoveCheck::Infeasible(cause) => {
+                    return Ok(Some(Failure {
+                        joint: joint_name(self.model, m.joint),
+                        from: self.problem.start.q[m.joint.index()],
+                        to: m.to,
+                        cause,
+                    }));
+                }
+            }
+        }
+        Ok(None)
+    }
+}
+
+/// Counts a rejected order's failure under (goal index, cause signature): box conflicts by
+/// their bodies, path failures by their cause.
+fn record_conflict(
+    model: &SceneModel,
+    moves: &[Move],
+    conflicts: &mut HashMap<(usize, String), (usize, Failure)>,
+    f: Failure,
+) {
+    let signature = match &f.cause {
+        Cause::Collision { moving, other, .. } => format!("box {moving} {other}"),
+        c => c.to_string(),
+    };
+    let index = moves
+        .iter()
+        .position(|m| joint_name(model, m.joint) == f.joint);
+    conflicts
+        .entry((index.unwrap_or(usize::MAX), signature))
+        .and_modify(|(n, _)| *n += 1)
+        .or_insert((1, f));
+}
+
+/// The *Paper* planner's verdict once every order was tried: the most frequent failures first.
+fn every_order_rejected(
+    model: &SceneModel,
+    problem: &Problem,
+    settings: &TaskSettings,
+    moves: &[Move],
+    tried: usize,
+    conflicts: HashMap<(usize, String), (usize, Failure)>,
+) -> Result<Infeasibility, Error> {
+    let mut grouped: Vec<(usize, Failure)> = conflicts.into_values().collect();
+    grouped.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.joint.cmp(&b.1.joint)));
+    let conflicts: Vec<Failure> = grouped
+        .into_iter()
+        .take(MAX_CONFLICTS)
+        .map(|(_, f)| f)
+        .collect();
+    let message = match conflicts.first() {
+        Some(f) => {
+            format!("every one of the {tried} orders of the goal joints is rejected; e.g. {f}")
+        }
+        None => "every order of the goal joints is rejected".into(),
+    };
+    let unreached = moves.iter().map(|m| joint_name(model, m.joint)).collect();
+    Ok(Infeasibility {
+        message,
+        unreached,
+        conflicts,
+        start_collisions: start_collisions(model, problem, settings)?,
+    })
 }

@@ -59,7 +59,6 @@ pub(crate) fn static_conflict(
         forward_kinematics(model, &mut probe, &state)?;
         Ok(collisions(model, &probe, collision)?)
     };
-    let same = |c: &Contact, a: Body, b: Body| (c.a, c.b) == (a, b) || (c.a, c.b) == (b, a);
     let start = problem.start.as_slice().to_vec();
     let at_start = collide(&start)?;
     let mut q = start.clone();
@@ -77,7 +76,7 @@ pub(crate) fn static_conflict(
         if termination.should_stop() {
             return Ok(None);
         }
-        if at_start.iter().any(|c| same(c, contact.a, contact.b)) {
+        if at_start.iter().any(|c| same_pair(c, &contact)) {
             continue;
         }
         let mut joints = chain(contact.a);
@@ -103,63 +102,108 @@ pub(crate) fn static_conflict(
         let Some(combinations) = combinations else {
             continue;
         };
-        let mut always = true;
-        for mut k in 0..combinations {
-            let mut state = q.clone();
-            for (j, values) in joints.iter().zip(&choices) {
-                state[j.index()] = values[k % values.len()];
-                k /= values.len();
-            }
-            if !collide(&state)?
-                .iter()
-                .any(|c| same(c, contact.a, contact.b))
-            {
-                always = false;
-                break;
-            }
-        }
-        if !always {
+        if !every_combination_collides(&q, &joints, &choices, combinations, &mut collide, &contact)?
+        {
             continue;
         }
-        let name = |b: Body| BodyName::of(model, b);
-        let (a, b) = (name(contact.a), name(contact.b));
-        let goal_names: Vec<String> = joints
-            .iter()
-            .map(|j| model.joints()[j.index()].name.clone())
-            .collect();
-        // The move of the pair's own joint into its target, as the reported conflict.
-        let moving = match contact.a {
-            Body::Part(p) => model.parts()[p.index()].joint(),
-            Body::Base(_) => joints[0],
+        let at = Contacts {
+            start: &start,
+            goal: &q,
+            at_start: &at_start,
         };
-        let key: Vec<u16> = (0..start.len())
-            .map(|k| lattice.index_of(JointId(k), start[k]).unwrap_or(0) as u16)
-            .collect();
-        let to = lattice.index_of(moving, q[moving.index()]).unwrap_or(0) as u16;
-        let cause = match checker.sweep(&mut data, &key, moving, to)? {
-            SweepVerdict::Blocked { cause, .. } => cause,
-            SweepVerdict::Free => Cause::Collision {
-                moving: a.clone(),
-                other: b.clone(),
-                value: q[moving.index()],
-            },
-        };
-        let conflict = Failure {
-            joint: model.joints()[moving.index()].name.clone(),
-            from: start[moving.index()],
-            to: q[moving.index()],
-            cause,
-        };
-        let start_collisions = at_start.iter().map(|c| (name(c.a), name(c.b))).collect();
-        return Ok(Some(Infeasibility {
-            message: format!(
-                "no plan in the lattice: {a} and {b} collide whenever {} meet their targets",
-                goal_names.join(", ")
-            ),
-            unreached: goal_names,
-            conflicts: vec![conflict],
-            start_collisions,
-        }));
+        return report(model, checker, lattice, &mut data, &at, &contact, &joints).map(Some);
     }
     Ok(None)
+}
+
+/// The contacts of the scene at joint values `q`.
+type Collide<'c> = dyn FnMut(&[f64]) -> Result<Vec<Contact>, Error> + 'c;
+
+/// Whether two contacts are between the same bodies.
+fn same_pair(c: &Contact, other: &Contact) -> bool {
+    (c.a, c.b) == (other.a, other.b) || (c.a, c.b) == (other.b, other.a)
+}
+
+/// Whether `contact`'s pair collides in every one of the `combinations` states that put the
+/// `joints` at their `choices` (mixed-radix over the choices) and the others at `q`.
+fn every_combination_collides(
+    q: &[f64],
+    joints: &[JointId],
+    choices: &[Vec<f64>],
+    combinations: usize,
+    collide: &mut Collide<'_>,
+    contact: &Contact,
+) -> Result<bool, Error> {
+    for mut k in 0..combinations {
+        let mut state = q.to_vec();
+        for (j, values) in joints.iter().zip(choices) {
+            state[j.index()] = values[k % values.len()];
+            k /= values.len();
+        }
+        if !collide(&state)?.iter().any(|c| same_pair(c, contact)) {
+            return Ok(false);
+        }
+    }
+    Ok(true)
+}
+
+/// The joint values around a static conflict: the start, the goal-nearest state and the
+/// contacts already at the start.
+struct Contacts<'a> {
+    start: &'a [f64],
+    goal: &'a [f64],
+    at_start: &'a [Contact],
+}
+
+/// The infeasibility report of a static conflict: `contact`'s pair collides whenever the
+/// `joints` that place it meet their targets. The reported move is the pair's own joint into
+/// its target, with the sweep check's verdict on it (where the contact first occurs).
+fn report(
+    model: &SceneModel,
+    checker: &Checker<'_>,
+    lattice: &Lattice,
+    data: &mut SceneData,
+    at: &Contacts<'_>,
+    contact: &Contact,
+    joints: &[JointId],
+) -> Result<Infeasibility, Error> {
+    let (start, q) = (at.start, at.goal);
+    let name = |b: Body| BodyName::of(model, b);
+    let (a, b) = (name(contact.a), name(contact.b));
+    let goal_names: Vec<String> = joints
+        .iter()
+        .map(|j| model.joints()[j.index()].name.clone())
+        .collect();
+    let moving = match contact.a {
+        Body::Part(p) => model.parts()[p.index()].joint(),
+        Body::Base(_) => joints[0],
+    };
+    let key: Vec<u16> = (0..start.len())
+        .map(|k| lattice.index_of(JointId(k), start[k]).unwrap_or(0) as u16)
+        .collect();
+    let to = lattice.index_of(moving, q[moving.index()]).unwrap_or(0) as u16;
+    let cause = match checker.sweep(data, &key, moving, to)? {
+        SweepVerdict::Blocked { cause, .. } => cause,
+        SweepVerdict::Free => Cause::Collision {
+            moving: a.clone(),
+            other: b.clone(),
+            value: q[moving.index()],
+        },
+    };
+    let conflict = Failure {
+        joint: model.joints()[moving.index()].name.clone(),
+        from: start[moving.index()],
+        to: q[moving.index()],
+        cause,
+    };
+    let start_collisions = at.at_start.iter().map(|c| (name(c.a), name(c.b))).collect();
+    Ok(Infeasibility {
+        message: format!(
+            "no plan in the lattice: {a} and {b} collide whenever {} meet their targets",
+            goal_names.join(", ")
+        ),
+        unreached: goal_names,
+        conflicts: vec![conflict],
+        start_collisions,
+    })
 }

@@ -155,6 +155,57 @@ impl Tree {
         robot: &urdf_rs::Robot,
         options: &RobotImportOptions,
     ) -> Result<Parsed, RobotError> {
+        let (base_link, tool, arm) = self.arm(robot, options)?;
+        let mesh_options = ImportOptions {
+            package_paths: options.package_paths.clone(),
+            base_dir: options.base_dir.clone(),
+            ..ImportOptions::default()
+        };
+        let mut walk = Walk {
+            meshes: MeshCache::new(&mesh_options),
+            robot,
+            tree: self,
+            arm: &arm,
+            joints: Vec::with_capacity(arm.len()),
+            links: vec![RobotLink {
+                name: robot.links[base_link].name.clone(),
+                colliders: Vec::new(),
+                contact: Vec::new(),
+                merged: Vec::new(),
+            }],
+            contact: options.contact_links.as_deref(),
+            owner: vec![None; robot.links.len()],
+            base_from_arm_root: Isometry3::identity(),
+            frozen_values: &options.frozen,
+            frozen: Vec::new(),
+        };
+        walk.visit(base_link)?;
+        self.check_named_links(robot, options, &arm, &walk)?;
+        let (owner, last_from_link) = walk.owner[tool].ok_or_else(|| RobotError::NotATree {
+            reason: format!("tool link {:?} is not below the base", options.tool_link),
+        })?;
+        debug_assert_eq!(owner, arm.len());
+        let last_from_tool = last_from_link * approach_rotation(options)?;
+        Ok(Parsed {
+            name: robot.name.clone(),
+            joints: walk.joints,
+            links: walk.links,
+            base_from_arm_root: walk.base_from_arm_root,
+            last_from_tool,
+            frozen: walk.frozen,
+        })
+    }
+}
+
+impl Tree {
+    /// The base link (the root, or the root's child through a planar or floating joint), the
+    /// tool link and the arm: the movable joints on the path from the base (or the arm root)
+    /// to the tool, as indices in `robot.joints`.
+    fn arm(
+        &self,
+        robot: &urdf_rs::Robot,
+        options: &RobotImportOptions,
+    ) -> Result<(usize, usize, Vec<usize>), RobotError> {
         // A planar or floating joint out of the root (a `world`/`odom` link) is the base's
         // implicit planar motion: skip it.
         let base_link = match self.child_joints[self.root].as_slice() {
@@ -218,30 +269,19 @@ impl Tree {
                 base: robot.links[base_link].name.clone(),
             });
         }
-        let mesh_options = ImportOptions {
-            package_paths: options.package_paths.clone(),
-            base_dir: options.base_dir.clone(),
-            ..ImportOptions::default()
-        };
-        let mut walk = Walk {
-            meshes: MeshCache::new(&mesh_options),
-            robot,
-            tree: self,
-            arm: &arm,
-            joints: Vec::with_capacity(arm.len()),
-            links: vec![RobotLink {
-                name: robot.links[base_link].name.clone(),
-                colliders: Vec::new(),
-                contact: Vec::new(),
-                merged: Vec::new(),
-            }],
-            contact: options.contact_links.as_deref(),
-            owner: vec![None; robot.links.len()],
-            base_from_arm_root: Isometry3::identity(),
-            frozen_values: &options.frozen,
-            frozen: Vec::new(),
-        };
-        walk.visit(base_link)?;
+        Ok((base_link, tool, arm))
+    }
+
+    /// The frozen joints and contact links the options name exist where they must: a frozen
+    /// joint is a movable joint off the arm, a contact link is rigidly attached below the last
+    /// arm joint.
+    fn check_named_links(
+        &self,
+        robot: &urdf_rs::Robot,
+        options: &RobotImportOptions,
+        arm: &[usize],
+        walk: &Walk<'_>,
+    ) -> Result<(), RobotError> {
         if let Some(name) = options
             .frozen
             .keys()
@@ -272,19 +312,7 @@ impl Tree {
                 reason: reason.to_owned(),
             });
         }
-        let (owner, last_from_link) = walk.owner[tool].ok_or_else(|| RobotError::NotATree {
-            reason: format!("tool link {:?} is not below the base", options.tool_link),
-        })?;
-        debug_assert_eq!(owner, arm.len());
-        let last_from_tool = last_from_link * approach_rotation(options)?;
-        Ok(Parsed {
-            name: robot.name.clone(),
-            joints: walk.joints,
-            links: walk.links,
-            base_from_arm_root: walk.base_from_arm_root,
-            last_from_tool,
-            frozen: walk.frozen,
-        })
+        Ok(())
     }
 }
 
