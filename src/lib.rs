@@ -7,7 +7,7 @@ pub mod error;
 pub mod scene;
 pub mod task;
 pub use control::{Outcome, Termination};
-pub use error::Error;
+pub use error::{Error, InvalidSetting};
 
 pub mod kinematics;
 #[cfg(any(feature = "ompl", feature = "casadi"))]
