@@ -29,6 +29,40 @@ pub enum Error {
     Discovery(#[from] crate::discovery::DiscoveryError),
 }
 
+/// A setting out of its documented range: which field, the value given, what it must be.
+///
+/// Every layer's error enum carries it as its `InvalidSetting` variant, so a settings check
+/// reads the same in every layer. It renders as one sentence:
+///
+/// ```
+/// use kinscene::InvalidSetting;
+///
+/// let e = InvalidSetting::new("sampling.samples", 0.0, "at least 1");
+/// assert_eq!(e.to_string(), "setting sampling.samples = 0: must be at least 1");
+/// ```
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("setting {field} = {value}: must be {requirement}")]
+pub struct InvalidSetting {
+    /// The field, by its path where it is nested (`"sampling.samples"`, `"stow[2]"`).
+    pub field: String,
+    /// The value given: counts as `f64`, durations in seconds.
+    pub value: f64,
+    /// What the field must be, in words, phrased to follow "must be": `"finite and > 0"`,
+    /// `"at least 1"`, `"greater than displacement_threshold"`.
+    pub requirement: String,
+}
+
+impl InvalidSetting {
+    /// The setting `field` given `value`, which must be `requirement` (see the fields).
+    pub fn new(field: impl Into<String>, value: f64, requirement: impl Into<String>) -> Self {
+        Self {
+            field: field.into(),
+            value,
+            requirement: requirement.into(),
+        }
+    }
+}
+
 /// Lets `?` lift a backend error straight into the crate error.
 macro_rules! lift {
     ($feature:meta, $backend:ty => $layer:ident :: $variant:ident => $outer:ident) => {

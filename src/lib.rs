@@ -8,7 +8,7 @@ pub mod prelude;
 pub mod scene;
 pub mod task;
 pub use control::{Outcome, Termination};
-pub use error::Error;
+pub use error::{Error, InvalidSetting};
 
 pub mod kinematics;
 #[cfg(any(feature = "ompl", feature = "casadi"))]

@@ -5,6 +5,7 @@
 //! failures, lost handles and `Unknown` estimates are outcomes, recorded in the per-handle log
 //! ([`HandleLog`](super::HandleLog)).
 
+use crate::InvalidSetting;
 use crate::kinematics::articulation::ArticulationError;
 
 /// Errors of the discovery layer. Every variant names the offending input.
@@ -12,15 +13,8 @@ use crate::kinematics::articulation::ArticulationError;
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum DiscoveryError {
     /// A settings field is out of its valid range.
-    #[error("setting {name} = {value}: {reason}")]
-    InvalidSetting {
-        /// The field name.
-        name: &'static str,
-        /// The rejected value.
-        value: f64,
-        /// What the field requires.
-        reason: &'static str,
-    },
+    #[error("{0}")]
+    InvalidSetting(#[from] crate::InvalidSetting),
     /// A number of an input (detection, handle, observation, pose) is NaN or infinite.
     #[error("non-finite {what}")]
     NonFinite {
@@ -63,11 +57,7 @@ pub(crate) fn check_positive(name: &'static str, value: f64) -> Result<(), Disco
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {
-        Err(DiscoveryError::InvalidSetting {
-            name,
-            value,
-            reason: "must be finite and > 0",
-        })
+        Err(InvalidSetting::new(name, value, "finite and > 0").into())
     }
 }
 
@@ -76,30 +66,22 @@ pub(crate) fn check_nonneg(name: &'static str, value: f64) -> Result<(), Discove
     if value.is_finite() && value >= 0.0 {
         Ok(())
     } else {
-        Err(DiscoveryError::InvalidSetting {
-            name,
-            value,
-            reason: "must be finite and >= 0",
-        })
+        Err(InvalidSetting::new(name, value, "finite and >= 0").into())
     }
 }
 
-/// `Err(InvalidSetting)` unless `lo <= value <= hi`.
+/// `Err(InvalidSetting)` unless `lo <= value <= hi`; `requirement` says so in words.
 pub(crate) fn check_range(
     name: &'static str,
     value: f64,
     lo: f64,
     hi: f64,
-    reason: &'static str,
+    requirement: &'static str,
 ) -> Result<(), DiscoveryError> {
     if (lo..=hi).contains(&value) {
         Ok(())
     } else {
-        Err(DiscoveryError::InvalidSetting {
-            name,
-            value,
-            reason,
-        })
+        Err(InvalidSetting::new(name, value, requirement).into())
     }
 }
 

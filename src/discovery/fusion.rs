@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 use super::error::{DiscoveryError, check_finite, check_positive, check_range};
 use super::interface::HandleDetection;
 use super::registration::Attachment;
+use crate::InvalidSetting;
 
 /// Settings of [`fuse_detections`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -37,19 +38,9 @@ impl FusionSettings {
     /// [0, 1] or `min_views == 0`.
     pub fn validate(&self) -> Result<(), DiscoveryError> {
         check_positive("merge_radius", self.merge_radius)?;
-        check_range(
-            "min_confidence",
-            self.min_confidence,
-            0.0,
-            1.0,
-            "must be in [0, 1]",
-        )?;
+        check_range("min_confidence", self.min_confidence, 0.0, 1.0, "in [0, 1]")?;
         if self.min_views == 0 {
-            return Err(DiscoveryError::InvalidSetting {
-                name: "min_views",
-                value: 0.0,
-                reason: "must be >= 1",
-            });
+            return Err(InvalidSetting::new("min_views", 0.0, "at least 1").into());
         }
         Ok(())
     }

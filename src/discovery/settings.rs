@@ -4,6 +4,7 @@ use serde::{Deserialize, Serialize};
 
 use super::error::{DiscoveryError, check_nonneg, check_positive, check_range};
 use super::interface::Camera;
+use crate::InvalidSetting;
 use crate::scene::collision::SweepSettings;
 
 /// Settings of [`discover`](super::discover). SI units; defaults are for a Stretch/Gen3-sized
@@ -225,27 +226,22 @@ impl DiscoverySettings {
         ] {
             check_nonneg(name, v)?;
         }
-        check_range(
-            "surface_weight",
-            self.surface_weight,
-            0.0,
-            1.0,
-            "must be in [0, 1]",
-        )?;
-        check_range("box_trim", self.box_trim, 0.0, 0.49, "must be in [0, 0.49]")?;
+        check_range("surface_weight", self.surface_weight, 0.0, 1.0, "in [0, 1]")?;
+        check_range("box_trim", self.box_trim, 0.0, 0.49, "in [0, 0.49]")?;
         check_range(
             "axis_snap",
             self.axis_snap,
             0.0,
             0.78,
-            "must be in [0, 0.78] (under 45°, so that horizontal and vertical do not overlap)",
+            "in [0, 0.78] (under 45°, so that horizontal and vertical do not overlap)",
         )?;
         if self.displacement_cap <= self.displacement_threshold {
-            return Err(DiscoveryError::InvalidSetting {
-                name: "displacement_cap",
-                value: self.displacement_cap,
-                reason: "must exceed displacement_threshold",
-            });
+            return Err(InvalidSetting::new(
+                "displacement_cap",
+                self.displacement_cap,
+                "greater than displacement_threshold",
+            )
+            .into());
         }
         for (name, v) in [
             ("max_attempts", self.max_attempts),
@@ -254,11 +250,7 @@ impl DiscoverySettings {
             ("min_normal_points", self.min_normal_points),
         ] {
             if v == 0 {
-                return Err(DiscoveryError::InvalidSetting {
-                    name,
-                    value: 0.0,
-                    reason: "must be >= 1",
-                });
+                return Err(InvalidSetting::new(name, 0.0, "at least 1").into());
             }
         }
         self.sweep.validate()?;

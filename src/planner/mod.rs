@@ -81,12 +81,19 @@ pub enum PlannerError {
     #[error("timing: {0}")]
     Timing(#[from] TimingError),
     /// A setting is out of range.
-    #[error("invalid setting {name}: {message}")]
-    InvalidSetting {
-        /// The setting.
-        name: &'static str,
-        /// What is wrong.
-        message: String,
+    #[error("{0}")]
+    InvalidSetting(#[from] crate::InvalidSetting),
+    /// The problem gives no start pose for the robot's base (`problem.robot.base`), which
+    /// the hierarchical planner starts from.
+    #[error(
+        "the hierarchical planner needs the robot's start pose ([robot] base = [x, y, yaw]); the problem gives none"
+    )]
+    MissingBasePose,
+    /// A step moves a joint whose part carries no handle, so the arm has nothing to grasp.
+    #[error("joint {joint:?} moves a part without a handle")]
+    NoHandle {
+        /// The joint.
+        joint: String,
     },
 }
 
@@ -341,8 +348,9 @@ impl HierarchicalPlanner {
     /// is `None` (yaw 0); the arm starts stowed.
     ///
     /// # Errors
-    /// Only for bad input or a broken backend (see [`PlannerError`]). Infeasible goals and
-    /// exhausted budgets are [`MotionOutcome`]s.
+    /// Only for bad input or a broken backend (see [`PlannerError`]), such as
+    /// [`PlannerError::MissingBasePose`] for a problem without the robot's start pose.
+    /// Infeasible goals and exhausted budgets are [`MotionOutcome`]s.
     pub fn plan(
         &self,
         model: &SceneModel,

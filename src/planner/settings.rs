@@ -5,6 +5,7 @@ use std::time::Duration;
 use nalgebra::DVector;
 
 use super::PlannerError;
+use crate::InvalidSetting;
 use crate::kinematics::ik::IkSettings;
 use crate::kinematics::robot::RobotModel;
 use crate::motion::paths::PathSettings;
@@ -103,21 +104,18 @@ impl PlannerSettings {
     /// Checks the settings against `robot`.
     ///
     /// # Errors
-    /// [`PlannerError::InvalidSetting`] naming the setting; the layers' own errors for their
-    /// blocks.
+    /// [`PlannerError::InvalidSetting`] naming the setting (`stow[i]` for a stowed value
+    /// outside its joint's limits); the layers' own errors for their blocks.
     pub fn validate(&self, robot: &RobotModel) -> Result<(), PlannerError> {
         self.task.validate()?;
         self.ik.validate()?;
         self.placement.validate()?;
         self.paths.validate()?;
-        let positive = |name: &'static str, v: f64| {
+        let positive = |field: &str, v: f64| {
             if v.is_finite() && v > 0.0 {
                 Ok(())
             } else {
-                Err(PlannerError::InvalidSetting {
-                    name,
-                    message: format!("{v} must be finite and > 0"),
-                })
+                Err(InvalidSetting::new(field, v, "finite and > 0"))
             }
         };
         positive("arm_check_resolution", self.arm_check_resolution)?;
@@ -127,30 +125,31 @@ impl PlannerSettings {
             blend.validate()?;
         }
         if !(self.margin.is_finite() && self.margin >= 0.0) {
-            return Err(PlannerError::InvalidSetting {
-                name: "margin",
-                message: format!("{} must be finite and >= 0", self.margin),
-            });
+            return Err(InvalidSetting::new("margin", self.margin, "finite and >= 0").into());
         }
         if let Some(stow) = &self.stow {
             let (lower, upper) = robot.arm_bounds();
             if stow.len() != robot.dof() {
-                return Err(PlannerError::InvalidSetting {
-                    name: "stow",
-                    message: format!("{} values for a {}-joint arm", stow.len(), robot.dof()),
-                });
+                return Err(InvalidSetting::new(
+                    "stow",
+                    stow.len() as f64,
+                    format!("{} values long, one per arm joint", robot.dof()),
+                )
+                .into());
             }
             for (i, v) in stow.iter().enumerate() {
                 if !(v.is_finite() && *v >= lower[i] && *v <= upper[i]) {
-                    return Err(PlannerError::InvalidSetting {
-                        name: "stow",
-                        message: format!(
-                            "joint {:?} at {v} is outside [{}, {}]",
+                    return Err(InvalidSetting::new(
+                        format!("stow[{i}]"),
+                        *v,
+                        format!(
+                            "within joint {:?}'s limits [{}, {}]",
                             robot.arm_joints()[i].name,
                             lower[i],
                             upper[i]
                         ),
-                    });
+                    )
+                    .into());
                 }
             }
         }

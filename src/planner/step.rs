@@ -187,12 +187,7 @@ pub(super) fn start_base_of(
     _first: &Step,
     robot: &Robot,
 ) -> Result<[f64; 3], PlannerError> {
-    robot.base.ok_or(PlannerError::InvalidSetting {
-        name: "problem.robot.base",
-        message:
-            "the hierarchical planner needs the robot's start pose ([robot] base = [x, y, yaw])"
-                .into(),
-    })
+    robot.base.ok_or(PlannerError::MissingBasePose)
 }
 
 /// The parts that the gripper's contact shapes may touch while it holds `joint`'s part.
@@ -626,15 +621,11 @@ fn first_handle_name(model: &SceneModel, joint: JointId) -> Result<String, Plann
         .handles()
         .find(|(id, _)| id.part() == part)
         .map(|(_, h)| h.name.clone())
-        .ok_or_else(|| PlannerError::InvalidSetting {
-            name: "step.handle",
-            message: format!(
-                "joint {:?} moves a part without a handle",
-                model
-                    .joint(joint)
-                    .map(|j| j.name.clone())
-                    .unwrap_or_default()
-            ),
+        .ok_or_else(|| PlannerError::NoHandle {
+            joint: model
+                .joint(joint)
+                .map(|j| j.name.clone())
+                .unwrap_or_default(),
         })
 }
 

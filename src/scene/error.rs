@@ -198,13 +198,8 @@ pub enum Error {
         joint: String,
     },
     /// A setting has an invalid value (see the setting's documentation).
-    #[error("invalid setting {what}: {value}")]
-    InvalidSetting {
-        /// The setting.
-        what: String,
-        /// The value given.
-        value: f64,
-    },
+    #[error("{0}")]
+    InvalidSetting(#[from] crate::InvalidSetting),
     /// The navigation grid would have more cells than allowed.
     #[error("navigation grid of {cells} cells exceeds the maximum {max}")]
     GridTooLarge {

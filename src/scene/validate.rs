@@ -3,6 +3,7 @@
 use nalgebra::{Isometry3, Unit, UnitQuaternion, Vector3};
 
 use super::Error;
+use crate::InvalidSetting;
 
 /// Axes and normals with a Euclidean norm below this are rejected as zero (unitless: the
 /// vectors are directions, normalised after the check).
@@ -109,10 +110,7 @@ pub(crate) fn check_setting_nonneg(value: f64, what: &str) -> Result<(), Error> 
     if value.is_finite() && value >= 0.0 {
         Ok(())
     } else {
-        Err(Error::InvalidSetting {
-            what: what.to_string(),
-            value,
-        })
+        Err(InvalidSetting::new(what, value, "finite and >= 0").into())
     }
 }
 
@@ -121,9 +119,6 @@ pub(crate) fn check_setting_pos(value: f64, what: &str) -> Result<(), Error> {
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {
-        Err(Error::InvalidSetting {
-            what: what.to_string(),
-            value,
-        })
+        Err(InvalidSetting::new(what, value, "finite and > 0").into())
     }
 }

@@ -51,13 +51,8 @@ pub enum Error {
         why: String,
     },
     /// A setting is out of its documented range.
-    #[error("invalid setting {what}: {value}")]
-    InvalidSetting {
-        /// The setting.
-        what: String,
-        /// The rejected value.
-        value: f64,
-    },
+    #[error("{0}")]
+    InvalidSetting(#[from] crate::InvalidSetting),
     /// A goal or plan document could not be parsed.
     #[error("cannot parse {what}: {message}")]
     Parse {

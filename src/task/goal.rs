@@ -283,7 +283,7 @@ pub struct Problem {
 
 impl Problem {
     /// Reads the goal file at `path` (JSON if its name ends in `.json`, TOML otherwise; the
-    /// [module docs](self) give the schema) and resolves it against `model`.
+    /// [`GoalSpec`] gives the schema) and resolves it against `model`.
     ///
     /// # Errors
     /// [`Error::Io`] if the file cannot be read; otherwise [`Error::InFile`] naming the file,

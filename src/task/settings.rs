@@ -3,6 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::Error;
+use crate::InvalidSetting;
 use crate::scene::collision::SweepSettings;
 
 /// Which planner [`plan`](super::plan) runs.
@@ -178,30 +179,41 @@ impl ArmReach {
     /// Checks the fields: finite, `radius > 0`, `wrist_out[0] <= wrist_out[1]`,
     /// `wrist_radius >= 0`.
     pub fn validate(&self) -> Result<(), Error> {
-        let bad = |what: &str, value: f64| Error::InvalidSetting {
-            what: format!("manipulation.arm.{what}"),
-            value,
+        let bad = |field: &str, value: f64, requirement: &str| {
+            Error::from(InvalidSetting::new(
+                format!("manipulation.arm.{field}"),
+                value,
+                requirement,
+            ))
         };
         for (k, v) in self.shoulder.iter().enumerate() {
             if !v.is_finite() {
-                return Err(bad(["shoulder[0]", "shoulder[1]", "shoulder[2]"][k], *v));
+                return Err(bad(
+                    ["shoulder[0]", "shoulder[1]", "shoulder[2]"][k],
+                    *v,
+                    "finite",
+                ));
             }
         }
         if !(self.radius.is_finite() && self.radius > 0.0) {
-            return Err(bad("radius", self.radius));
+            return Err(bad("radius", self.radius, "finite and > 0"));
         }
         let [lo, hi] = self.wrist_out;
         if !lo.is_finite() {
-            return Err(bad("wrist_out[0]", lo));
+            return Err(bad("wrist_out[0]", lo, "finite"));
         }
         if !(hi.is_finite() && hi >= lo) {
-            return Err(bad("wrist_out[1]", hi));
+            return Err(bad("wrist_out[1]", hi, "finite and at least wrist_out[0]"));
         }
         if !(self.wrist_radius.is_finite() && self.wrist_radius >= 0.0) {
-            return Err(bad("wrist_radius", self.wrist_radius));
+            return Err(bad("wrist_radius", self.wrist_radius, "finite and >= 0"));
         }
         if !(self.shoulder_radius.is_finite() && self.shoulder_radius >= 0.0) {
-            return Err(bad("shoulder_radius", self.shoulder_radius));
+            return Err(bad(
+                "shoulder_radius",
+                self.shoulder_radius,
+                "finite and >= 0",
+            ));
         }
         Ok(())
     }
@@ -314,21 +326,29 @@ impl TaskSettings {
     /// [`Error::InvalidSetting`] naming the first field out of range; scene errors for
     /// invalid sweep settings.
     pub fn validate(&self) -> Result<(), Error> {
-        let bad = |what: &str, value: f64| Error::InvalidSetting {
-            what: what.into(),
-            value,
+        let bad = |field: &str, value: f64, requirement: &str| {
+            Error::from(InvalidSetting::new(field, value, requirement))
         };
         self.sweep.validate()?;
         if !(self.heuristic_weight.is_finite() && self.heuristic_weight >= 1.0) {
-            return Err(bad("heuristic_weight", self.heuristic_weight));
+            return Err(bad(
+                "heuristic_weight",
+                self.heuristic_weight,
+                "finite and at least 1",
+            ));
         }
         if !(self.first_pass_weight.is_finite() && self.first_pass_weight >= 1.0) {
-            return Err(bad("first_pass_weight", self.first_pass_weight));
+            return Err(bad(
+                "first_pass_weight",
+                self.first_pass_weight,
+                "finite and at least 1",
+            ));
         }
         if self.lattice.interior_values > 64 {
             return Err(bad(
                 "lattice.interior_values",
                 self.lattice.interior_values as f64,
+                "at most 64",
             ));
         }
         for (what, v) in [
@@ -337,27 +357,44 @@ impl TaskSettings {
             ("cost.travel", self.cost.travel),
         ] {
             if !(v.is_finite() && v >= 0.0) {
-                return Err(bad(what, v));
+                return Err(bad(what, v, "finite and >= 0"));
             }
         }
         let m = &self.manipulation;
         if !(m.reach_min.is_finite() && m.reach_min >= 0.0) {
-            return Err(bad("manipulation.reach_min", m.reach_min));
+            return Err(bad(
+                "manipulation.reach_min",
+                m.reach_min,
+                "finite and >= 0",
+            ));
         }
         if !(m.reach_max.is_finite() && m.reach_max > m.reach_min) {
-            return Err(bad("manipulation.reach_max", m.reach_max));
+            return Err(bad(
+                "manipulation.reach_max",
+                m.reach_max,
+                "finite and greater than manipulation.reach_min",
+            ));
         }
         if !(m.height_min.is_finite() && m.height_max.is_finite() && m.height_max > m.height_min) {
-            return Err(bad("manipulation.height_max", m.height_max));
+            return Err(bad(
+                "manipulation.height_max",
+                m.height_max,
+                "finite and greater than manipulation.height_min, itself finite",
+            ));
         }
         if !(0.0..=std::f64::consts::FRAC_PI_2).contains(&m.max_normal_elevation) {
             return Err(bad(
                 "manipulation.max_normal_elevation",
                 m.max_normal_elevation,
+                "in [0, π/2]",
             ));
         }
         if !(1..=1000).contains(&m.steps) {
-            return Err(bad("manipulation.steps", m.steps as f64));
+            return Err(bad(
+                "manipulation.steps",
+                m.steps as f64,
+                "between 1 and 1000",
+            ));
         }
         if let Some(arm) = &m.arm {
             arm.validate()?;

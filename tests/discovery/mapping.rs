@@ -90,10 +90,7 @@ fn fusion_rejects_bad_input() {
     };
     assert!(matches!(
         fuse_detections(&[], &bad),
-        Err(DiscoveryError::InvalidSetting {
-            name: "merge_radius",
-            ..
-        })
+        Err(DiscoveryError::InvalidSetting(s)) if s.field == "merge_radius"
     ));
 }
 

@@ -634,7 +634,7 @@ fn bad_input_gives_typed_errors() {
     ];
     for (settings, field) in bad_settings {
         assert!(
-            matches!(IkSolver::new(&model, tool, settings), Err(IkError::InvalidSetting { name, .. }) if name == field),
+            matches!(IkSolver::new(&model, tool, settings), Err(IkError::InvalidSetting(s)) if s.field == field),
             "{field}"
         );
     }

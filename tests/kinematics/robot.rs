@@ -317,13 +317,16 @@ fn setters_validate_their_input() {
         footprint_radius: f64::NAN,
         ..base
     };
-    assert!(matches!(
-        robot.with_base(bad),
-        Err(RobotError::InvalidSetting {
-            what: "footprint_radius",
-            ..
-        })
-    ));
+    let err = robot.with_base(bad).unwrap_err();
+    assert!(
+        matches!(&err, RobotError::InvalidSetting(s) if s.field == "footprint_radius"),
+        "{err}"
+    );
+    // One sentence, the requirement after the layer's prefix.
+    assert_eq!(
+        err.to_string(),
+        "robot setting footprint_radius = NaN: must be finite and > 0"
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1245,7 +1248,7 @@ fn a_computed_stow_is_the_most_compact_free_configuration() {
             RobotModel::from_urdf_str(TOY)
                 .unwrap()
                 .with_computed_stow(&bad),
-            Err(RobotError::InvalidSetting { .. })
+            Err(RobotError::InvalidSetting(_))
         ));
     }
 }

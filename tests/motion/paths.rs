@@ -340,7 +340,7 @@ fn bad_base_input_gives_typed_errors() {
     };
     assert!(matches!(
         plan([0.5, 0.5, 0.0], BOUNDS, &zero_budget),
-        Err(PathError::InvalidSetting { name: "budget", .. })
+        Err(PathError::InvalidSetting(s)) if s.field == "budget"
     ));
     for resolution in [0.0, -1.0, f64::NAN, f64::INFINITY, 1e-300] {
         let bad = PathSettings {
@@ -350,10 +350,7 @@ fn bad_base_input_gives_typed_errors() {
         assert!(
             matches!(
                 plan([0.5, 0.5, 0.0], BOUNDS, &bad),
-                Err(PathError::InvalidSetting {
-                    name: "resolution",
-                    ..
-                })
+                Err(PathError::InvalidSetting(s)) if s.field == "resolution"
             ),
             "{resolution}"
         );

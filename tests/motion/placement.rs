@@ -544,26 +544,25 @@ fn bad_input_gives_typed_errors() {
         steps: 0,
         ..PlacementSettings::default()
     };
-    assert!(matches!(
-        run(drawer.0, drawer.1, 0.3, ROBOT_FROM, &bad),
-        Err(PlacementError::InvalidSetting { what: "steps", .. })
-    ));
+    let err = run(drawer.0, drawer.1, 0.3, ROBOT_FROM, &bad).unwrap_err();
+    assert!(
+        matches!(&err, PlacementError::InvalidSetting(s) if s.field == "steps"),
+        "{err}"
+    );
+    assert_eq!(
+        err.to_string(),
+        "setting steps = 0: must be between 1 and 1000"
+    );
     bad.steps = 10;
     bad.manipulation.max_joint_jump = -1.0;
     assert!(matches!(
         run(drawer.0, drawer.1, 0.3, ROBOT_FROM, &bad),
-        Err(PlacementError::InvalidSetting {
-            what: "manipulation.max_joint_jump",
-            ..
-        })
+        Err(PlacementError::InvalidSetting(s)) if s.field == "manipulation.max_joint_jump"
     ));
     bad.manipulation.max_joint_jump = 0.35;
     bad.sampling.max_draws = 1;
     assert!(matches!(
         run(drawer.0, drawer.1, 0.3, ROBOT_FROM, &bad),
-        Err(PlacementError::InvalidSetting {
-            what: "sampling.max_draws",
-            ..
-        })
+        Err(PlacementError::InvalidSetting(s)) if s.field == "sampling.max_draws"
     ));
 }

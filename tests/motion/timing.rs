@@ -750,11 +750,11 @@ fn time_optimal_bad_input_gives_typed_errors() {
         ] {
             assert!(matches!(
                 settings.validate(),
-                Err(TimingError::InvalidSetting { what, .. }) if what == name
+                Err(TimingError::InvalidSetting(s)) if s.field == name
             ));
             assert!(matches!(
                 time_optimal(&path, &ok, &ok, None, &settings),
-                Err(TimingError::InvalidSetting { what, .. }) if what == name
+                Err(TimingError::InvalidSetting(s)) if s.field == name
             ));
         }
     }

@@ -209,7 +209,7 @@ fn a_missing_start_pose_is_a_typed_error() {
             &Termination::after(Duration::from_secs(10)),
         )
         .unwrap_err();
-    assert!(matches!(err, PlannerError::InvalidSetting { .. }), "{err}");
+    assert!(matches!(err, PlannerError::MissingBasePose), "{err}");
 }
 
 #[test]
@@ -220,8 +220,25 @@ fn bad_settings_are_rejected() {
     };
     let err = HierarchicalPlanner::new(RobotModel::kinova_gen3_mobile(), settings).unwrap_err();
     assert!(
-        matches!(err, PlannerError::InvalidSetting { name: "stow", .. }),
+        matches!(&err, PlannerError::InvalidSetting(s) if s.field == "stow" && s.value == 3.0),
         "{err}"
+    );
+    let mut stow = RobotModel::kinova_gen3_mobile().neutral();
+    stow[1] = 100.0;
+    let settings = PlannerSettings {
+        stow: Some(stow),
+        ..PlannerSettings::default()
+    };
+    let err = HierarchicalPlanner::new(RobotModel::kinova_gen3_mobile(), settings).unwrap_err();
+    assert!(
+        matches!(&err, PlannerError::InvalidSetting(s) if s.field == "stow[1]" && s.value == 100.0),
+        "{err}"
+    );
+    let message = err.to_string();
+    assert!(
+        message.starts_with("setting stow[1] = 100: must be within joint ")
+            && message.matches("must be").count() == 1,
+        "{message}"
     );
     let settings = PlannerSettings {
         margin: f64::NAN,

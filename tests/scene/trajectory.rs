@@ -109,7 +109,9 @@ fn trajectory_rejects_bad_requests() {
     assert!(matches!(err, Error::JointLimit { value, max, .. } if value == 2.5 && max == 2.0));
     let err =
         grasp_trajectory(&m, &mut data, &s, door_handle, door_hinge, 0.0, 1.0, 0).unwrap_err();
-    assert!(matches!(err, Error::InvalidSetting { .. }));
+    assert!(
+        matches!(err, Error::InvalidSetting(s) if s.field == "trajectory steps K" && s.value == 0.0)
+    );
 }
 
 #[test]

@@ -251,7 +251,7 @@ fn rejects_bad_geometry_and_handles() {
     });
     assert!(matches!(
         b.build().unwrap_err(),
-        Error::InvalidSetting { .. }
+        Error::InvalidSetting(s) if s.field == "nav.resolution"
     ));
     b.nav_settings(NavGridSettings {
         resolution: 1e-4,

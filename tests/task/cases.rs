@@ -768,13 +768,13 @@ fn bad_robot_starts_and_settings_are_typed_errors() {
     bad.cost.action = f64::NAN;
     assert!(matches!(
         plan(&model, &p, &bad, &NoRefinement, &Termination::none()),
-        Err(Error::InvalidSetting { .. })
+        Err(Error::InvalidSetting(s)) if s.field == "cost.action"
     ));
     let mut bad = settings(0);
     bad.manipulation.reach_max = 0.1;
     assert!(matches!(
         plan(&model, &p, &bad, &NoRefinement, &Termination::none()),
-        Err(Error::InvalidSetting { .. })
+        Err(Error::InvalidSetting(s)) if s.field == "manipulation.reach_max" && s.value == 0.1
     ));
     // A start state of the wrong size (a problem built for another model).
     let other = dishwasher(Rack::OnBase);

@@ -153,7 +153,10 @@ mod imp {
         let result = planner
             .plan(model, problem, &termination)
             .map_err(|e| match e {
-                PlannerError::Task(_) | PlannerError::InvalidSetting { .. } => {
+                PlannerError::Task(_)
+                | PlannerError::InvalidSetting(_)
+                | PlannerError::MissingBasePose
+                | PlannerError::NoHandle { .. } => {
                     CliError::new(format!("{}: {e}", goal.display()))
                 }
                 e => CliError::new(format!("planning failed: {e}")),

@@ -8,6 +8,9 @@
 //!   manipulation) and its experiments;
 //! - [`report`]: the report's pictures.
 
+// The docs are for the kitchen's developers and link its private modules and items.
+#![allow(rustdoc::private_intra_doc_links)]
+
 use std::path::{Path, PathBuf};
 
 pub mod pipeline;

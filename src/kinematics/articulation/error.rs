@@ -70,13 +70,6 @@ pub enum ArticulationError {
         previous: f64,
     },
     /// A settings field is out of its valid range.
-    #[error("setting {name} = {value}: {reason}")]
-    InvalidSetting {
-        /// The field name.
-        name: &'static str,
-        /// The rejected value.
-        value: f64,
-        /// What the field requires.
-        reason: &'static str,
-    },
+    #[error("{0}")]
+    InvalidSetting(#[from] crate::InvalidSetting),
 }

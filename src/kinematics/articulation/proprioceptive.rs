@@ -13,6 +13,7 @@ use super::cloud::centroid;
 use super::error::ArticulationError;
 use super::estimate::{ArticulationEstimator, Estimate, Interaction, JointEstimate};
 use super::pose_circle::{self, PoseCircle};
+use crate::InvalidSetting;
 
 /// Settings of [`Proprioceptive`]. Lengths in metres, angles in radians.
 #[derive(Debug, Clone, PartialEq)]
@@ -102,27 +103,14 @@ impl ProprioceptiveSettings {
         ];
         for (name, value) in positive {
             if !(value.is_finite() && value > 0.0) {
-                return Err(ArticulationError::InvalidSetting {
-                    name,
-                    value,
-                    reason: "must be finite and > 0",
-                });
+                return Err(InvalidSetting::new(name, value, "finite and > 0").into());
             }
         }
         if self.iterations == 0 {
-            return Err(ArticulationError::InvalidSetting {
-                name: "iterations",
-                value: 0.0,
-                reason: "must be ≥ 1",
-            });
+            return Err(InvalidSetting::new("iterations", 0.0, "≥ 1").into());
         }
         if self.min_poses < 3 {
-            let value = self.min_poses as f64;
-            return Err(ArticulationError::InvalidSetting {
-                name: "min_poses",
-                value,
-                reason: "must be ≥ 3",
-            });
+            return Err(InvalidSetting::new("min_poses", self.min_poses as f64, "≥ 3").into());
         }
         Ok(())
     }

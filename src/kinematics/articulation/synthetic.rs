@@ -10,6 +10,7 @@ use rand_chacha::ChaCha8Rng;
 
 use super::cloud::PointCloud;
 use super::error::ArticulationError;
+use crate::InvalidSetting;
 
 /// An oriented box of the synthetic scene.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -72,41 +73,33 @@ pub fn render(
     noise: &DepthNoise,
     stamp: f64,
 ) -> Result<Rendered, ArticulationError> {
-    let bad = |name, value, reason| {
-        Err(ArticulationError::InvalidSetting {
-            name,
+    let bad = |field: &str, value: f64, requirement: &str| {
+        Err(ArticulationError::from(InvalidSetting::new(
+            field,
             value,
-            reason,
-        })
+            requirement,
+        )))
     };
     if !(camera.horizontal_fov > 0.0 && camera.horizontal_fov < std::f64::consts::PI) {
-        return bad("horizontal_fov", camera.horizontal_fov, "must be in (0, π)");
+        return bad("horizontal_fov", camera.horizontal_fov, "in (0, π)");
     }
     if camera.width == 0 || camera.height == 0 {
-        return bad("width/height", 0.0, "must be ≥ 1");
+        return bad("width/height", 0.0, "≥ 1");
     }
     if camera.max_range.is_nan() || camera.max_range <= 0.0 {
-        return bad("max_range", camera.max_range, "must be > 0");
+        return bad("max_range", camera.max_range, "> 0");
     }
     if !(noise.sigma >= 0.0 && noise.sigma.is_finite()) {
-        return bad("sigma", noise.sigma, "must be finite and ≥ 0");
+        return bad("sigma", noise.sigma, "finite and ≥ 0");
     }
     if !(noise.outlier_fraction >= 0.0 && noise.outlier_fraction < 1.0) {
-        return bad(
-            "outlier_fraction",
-            noise.outlier_fraction,
-            "must be in [0, 1)",
-        );
+        return bad("outlier_fraction", noise.outlier_fraction, "in [0, 1)");
     }
     if let Some(b) = boxes
         .iter()
         .find(|b| !b.half_extents.iter().all(|h| h.is_finite() && *h > 0.0))
     {
-        return bad(
-            "half_extents",
-            b.half_extents.min(),
-            "must be finite and > 0",
-        );
+        return bad("half_extents", b.half_extents.min(), "finite and > 0");
     }
     let forward = camera.target - camera.origin;
     let right = forward.cross(&camera.up);
@@ -115,7 +108,7 @@ pub fn render(
         return bad(
             "up",
             0.0,
-            "the camera needs distinct origin and target and an up direction off the optical axis",
+            "off the optical axis, which needs an origin apart from the target",
         );
     };
     if !camera
@@ -125,7 +118,7 @@ pub fn render(
         .chain(camera.target.coords.iter())
         .all(|v| v.is_finite())
     {
-        return bad("origin/target", f64::NAN, "must be finite");
+        return bad("origin/target", f64::NAN, "finite");
     }
     let up = right.cross(&forward);
     let half_w = (camera.horizontal_fov / 2.0).tan();

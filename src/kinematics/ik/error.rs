@@ -35,15 +35,8 @@ pub enum IkError {
         norm: f64,
     },
     /// A field of [`crate::kinematics::ik::IkSettings`] is out of range.
-    #[error("IK setting {name} = {value} is invalid: {reason}")]
-    InvalidSetting {
-        /// The field.
-        name: &'static str,
-        /// Its value (durations in seconds, counts as floats).
-        value: f64,
-        /// The accepted range.
-        reason: &'static str,
-    },
+    #[error("{0}")]
+    InvalidSetting(#[from] crate::InvalidSetting),
     /// The target frame is not a frame of the model.
     #[error("frame index {index} out of range (the model has {count} frames)")]
     UnknownFrame {

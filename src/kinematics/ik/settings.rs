@@ -3,6 +3,7 @@
 use std::time::Duration;
 
 use super::IkError;
+use crate::InvalidSetting;
 
 /// Settings of [`crate::kinematics::ik::IkSolver`]. Build with `Default` and override fields;
 /// [`IkSettings::validate`] (called by the solver's constructor) checks them.
@@ -103,40 +104,22 @@ impl IkSettings {
         ];
         for (name, value) in positive {
             if !(value.is_finite() && value > 0.0) {
-                return Err(IkError::InvalidSetting {
-                    name,
-                    value,
-                    reason: "must be positive and finite",
-                });
+                return Err(InvalidSetting::new(name, value, "positive and finite").into());
             }
         }
         if !(self.damping.is_finite() && self.damping >= 0.0) {
-            return Err(IkError::InvalidSetting {
-                name: "damping",
-                value: self.damping,
-                reason: "must be non-negative and finite",
-            });
+            return Err(
+                InvalidSetting::new("damping", self.damping, "non-negative and finite").into(),
+            );
         }
         if self.max_iterations == 0 {
-            return Err(IkError::InvalidSetting {
-                name: "max_iterations",
-                value: 0.0,
-                reason: "must be at least 1",
-            });
+            return Err(InvalidSetting::new("max_iterations", 0.0, "at least 1").into());
         }
         if self.max_total_iterations == 0 {
-            return Err(IkError::InvalidSetting {
-                name: "max_total_iterations",
-                value: 0.0,
-                reason: "must be at least 1",
-            });
+            return Err(InvalidSetting::new("max_total_iterations", 0.0, "at least 1").into());
         }
         if self.budget.is_zero() {
-            return Err(IkError::InvalidSetting {
-                name: "budget",
-                value: 0.0,
-                reason: "must be positive",
-            });
+            return Err(InvalidSetting::new("budget", 0.0, "positive").into());
         }
         Ok(())
     }

@@ -187,14 +187,10 @@ pub enum RobotError {
         /// Upper bound.
         upper: f64,
     },
-    /// A base setting out of range (footprint radius not finite and > 0).
-    #[error("robot setting {what} = {value} is invalid")]
-    InvalidSetting {
-        /// The setting.
-        what: &'static str,
-        /// The value given.
-        value: f64,
-    },
+    /// A setting out of range: the footprint radius, an allowed pair's link index, the
+    /// sampling of the pairs or of the stow search.
+    #[error("robot {0}")]
+    InvalidSetting(#[from] crate::InvalidSetting),
     /// No sampled arm configuration is free of self-collision and clear of the floor
     /// ([`RobotModel::with_computed_stow`](super::RobotModel::with_computed_stow)).
     #[error(

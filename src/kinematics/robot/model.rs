@@ -8,6 +8,7 @@ use nalgebra::{DVector, Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
 
 use super::RobotError;
 use super::urdf::{self, Parsed};
+use crate::InvalidSetting;
 use crate::scene::Collider;
 
 /// Default acceleration limit of revolute and continuous arm joints (rad/s²), used when the URDF
@@ -461,10 +462,12 @@ impl RobotModel {
     /// and positive.
     pub fn with_base(mut self, base: MobileBase) -> Result<RobotModel, RobotError> {
         if !(base.footprint_radius.is_finite() && base.footprint_radius > 0.0) {
-            return Err(RobotError::InvalidSetting {
-                what: "footprint_radius",
-                value: base.footprint_radius,
-            });
+            return Err(InvalidSetting::new(
+                "footprint_radius",
+                base.footprint_radius,
+                "finite and > 0",
+            )
+            .into());
         }
         for (axis, (&v, &a)) in ["base x", "base y", "base yaw"]
             .iter()

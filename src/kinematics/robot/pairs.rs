@@ -9,6 +9,7 @@ use rand_chacha::ChaCha8Rng;
 
 use super::srdf::{DisabledPair, GroupState, Srdf, SrdfGroup};
 use super::{RobotCollision, RobotConfig, RobotError, RobotModel};
+use crate::InvalidSetting;
 
 /// Why a link pair is exempt from self-collision checking.
 #[non_exhaustive]
@@ -101,11 +102,21 @@ impl RobotModel {
         let n = self.links.len();
         let mut pairs = pairs;
         for p in &mut pairs {
-            if p.link1 >= n || p.link2 >= n || p.link1 == p.link2 {
-                return Err(RobotError::InvalidSetting {
-                    what: "allowed pair link index",
-                    value: p.link1.max(p.link2) as f64,
-                });
+            if p.link1 >= n || p.link2 >= n {
+                return Err(InvalidSetting::new(
+                    "allowed pair link index",
+                    p.link1.max(p.link2) as f64,
+                    format!("below {n}, the number of links"),
+                )
+                .into());
+            }
+            if p.link1 == p.link2 {
+                return Err(InvalidSetting::new(
+                    "allowed pair link index",
+                    p.link1 as f64,
+                    "different from the pair's other link",
+                )
+                .into());
             }
             if p.link1 > p.link2 {
                 std::mem::swap(&mut p.link1, &mut p.link2);
@@ -218,16 +229,15 @@ impl RobotModel {
         at_neutral: bool,
     ) -> Result<Vec<AllowedPair>, RobotError> {
         if sampling.samples == 0 {
-            return Err(RobotError::InvalidSetting {
-                what: "pair sampling samples",
-                value: 0.0,
-            });
+            return Err(InvalidSetting::new("pair sampling samples", 0.0, "at least 1").into());
         }
         if !(sampling.always_fraction > 0.0 && sampling.always_fraction <= 1.0) {
-            return Err(RobotError::InvalidSetting {
-                what: "pair sampling always_fraction",
-                value: sampling.always_fraction,
-            });
+            return Err(InvalidSetting::new(
+                "pair sampling always_fraction",
+                sampling.always_fraction,
+                "in (0, 1]",
+            )
+            .into());
         }
         // Every pair with shapes checked: the counts below see all of them.
         let all_checked = self.clone().with_allowed_pairs(Vec::new())?;

@@ -6,6 +6,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use super::{PairSampling, RobotCollision, RobotConfig, RobotError, RobotModel};
+use crate::InvalidSetting;
 
 /// How [`RobotModel::with_computed_stow`] searches.
 #[derive(Debug, Clone, PartialEq)]
@@ -112,14 +113,11 @@ impl RobotModel {
             ("stow search floor clearance", search.floor_clearance),
         ] {
             if !(value.is_finite() && value >= 0.0) {
-                return Err(RobotError::InvalidSetting { what, value });
+                return Err(InvalidSetting::new(what, value, "finite and >= 0").into());
             }
         }
         if search.samples == 0 {
-            return Err(RobotError::InvalidSetting {
-                what: "stow search samples",
-                value: 0.0,
-            });
+            return Err(InvalidSetting::new("stow search samples", 0.0, "at least 1").into());
         }
         let judged = match self.allowed_pairs() {
             Some(_) => self.clone(),

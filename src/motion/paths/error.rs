@@ -53,15 +53,8 @@ pub enum PathError {
         upper: f64,
     },
     /// A field of [`PathSettings`](super::PathSettings) is out of its domain.
-    #[error("setting {name} = {value} is invalid: must be {requirement}")]
-    InvalidSetting {
-        /// The field's name.
-        name: &'static str,
-        /// The value given (the budget in seconds).
-        value: f64,
-        /// Its domain, in words.
-        requirement: &'static str,
-    },
+    #[error("{0}")]
+    InvalidSetting(#[from] crate::InvalidSetting),
     /// The OMPL backend rejected its input, failed to load, or threw.
     #[error("OMPL: {0}")]
     Ompl(#[from] kinscene_ompl::Error),

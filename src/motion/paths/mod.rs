@@ -47,6 +47,8 @@ mod recheck;
 
 use std::time::Duration;
 
+use crate::InvalidSetting;
+
 pub use error::PathError;
 pub use kinscene_ompl::Planner;
 pub use plan::{CONTINUOUS_JOINT_WINDOW, plan_arm, plan_base};
@@ -96,18 +98,12 @@ impl PathSettings {
     /// [`PathError::InvalidSetting`].
     pub fn validate(&self) -> Result<(), PathError> {
         if self.budget.is_zero() {
-            return Err(PathError::InvalidSetting {
-                name: "budget",
-                value: 0.0,
-                requirement: "positive",
-            });
+            return Err(InvalidSetting::new("budget", 0.0, "positive").into());
         }
         if !(self.resolution.is_finite() && self.resolution > 0.0) {
-            return Err(PathError::InvalidSetting {
-                name: "resolution",
-                value: self.resolution,
-                requirement: "finite and > 0",
-            });
+            return Err(
+                InvalidSetting::new("resolution", self.resolution, "finite and > 0").into(),
+            );
         }
         Ok(())
     }

@@ -8,6 +8,7 @@ use kinscene_ompl::{
 };
 
 use super::{PathError, PathFailure, PathOutcome, PathSettings};
+use crate::InvalidSetting;
 
 /// Half-width (rad) of the window a continuous joint (infinite bounds) is planned in: the
 /// joint is bounded to `[min(start, goal) − W, max(start, goal) + W]`, one half turn of slack
@@ -168,11 +169,12 @@ fn run<C: StateValidityChecker>(
     // OMPL checks motions every `fraction × extent`; it rejects fractions outside (ε, 1 − ε).
     let fraction = (settings.resolution / extent).min(0.5);
     if fraction < f64::EPSILON {
-        return Err(PathError::InvalidSetting {
-            name: "resolution",
-            value: settings.resolution,
-            requirement: "at least machine epsilon times the space's maximum extent",
-        });
+        return Err(InvalidSetting::new(
+            "resolution",
+            settings.resolution,
+            format!("at least machine epsilon times the space's maximum extent ({extent})"),
+        )
+        .into());
     }
     let ompl_settings = PlanSettings {
         planner: settings.planner,

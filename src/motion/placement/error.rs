@@ -29,15 +29,8 @@ pub enum PlacementError {
     #[error("Pinocchio: {0}")]
     Pinocchio(#[from] kinscene_pinocchio::Error),
     /// A setting is out of its documented range.
-    #[error("invalid placement setting {what} = {value}: {reason}")]
-    InvalidSetting {
-        /// The field, e.g. `"sampling.samples"`.
-        what: &'static str,
-        /// The value given (counts converted to `f64`).
-        value: f64,
-        /// The allowed range.
-        reason: &'static str,
-    },
+    #[error("{0}")]
+    InvalidSetting(#[from] crate::InvalidSetting),
     /// An input value is NaN or infinite.
     #[error("{what} is not finite")]
     NonFinite {

@@ -6,6 +6,7 @@ use kinscene_casadi::NlpSettings;
 
 use super::PlacementError;
 use super::grasp::GraspRotation;
+use crate::InvalidSetting;
 
 /// How the base pose is chosen.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -228,39 +229,27 @@ impl Default for PlacementSettings {
 /// Largest `K` accepted (the NLP has `7 · (K + 1)` arm variables for a 7-DoF arm).
 pub const MAX_STEPS: usize = 1000;
 
-fn positive(what: &'static str, value: f64) -> Result<(), PlacementError> {
+fn positive(field: &str, value: f64) -> Result<(), InvalidSetting> {
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {
-        Err(PlacementError::InvalidSetting {
-            what,
-            value,
-            reason: "must be finite and > 0",
-        })
+        Err(InvalidSetting::new(field, value, "finite and > 0"))
     }
 }
 
-fn non_negative(what: &'static str, value: f64) -> Result<(), PlacementError> {
+fn non_negative(field: &str, value: f64) -> Result<(), InvalidSetting> {
     if value.is_finite() && value >= 0.0 {
         Ok(())
     } else {
-        Err(PlacementError::InvalidSetting {
-            what,
-            value,
-            reason: "must be finite and >= 0",
-        })
+        Err(InvalidSetting::new(field, value, "finite and >= 0"))
     }
 }
 
-fn angle(what: &'static str, value: f64) -> Result<(), PlacementError> {
+fn angle(field: &str, value: f64) -> Result<(), InvalidSetting> {
     if (0.0..=std::f64::consts::PI).contains(&value) {
         Ok(())
     } else {
-        Err(PlacementError::InvalidSetting {
-            what,
-            value,
-            reason: "must be in [0, pi]",
-        })
+        Err(InvalidSetting::new(field, value, "in [0, pi]"))
     }
 }
 
@@ -279,11 +268,7 @@ impl ManipulationSettings {
         positive("manipulation.rotation_tolerance", self.rotation_tolerance)?;
         non_negative("manipulation.finger_clearance", self.finger_clearance)?;
         if self.roll_attempts == 0 {
-            return Err(PlacementError::InvalidSetting {
-                what: "manipulation.roll_attempts",
-                value: 0.0,
-                reason: "must be >= 1",
-            });
+            return Err(InvalidSetting::new("manipulation.roll_attempts", 0.0, ">= 1").into());
         }
         Ok(())
     }
@@ -296,41 +281,36 @@ impl SamplingSettings {
     /// [`PlacementError::InvalidSetting`] naming the field.
     pub fn validate(&self) -> Result<(), PlacementError> {
         if self.samples == 0 {
-            return Err(PlacementError::InvalidSetting {
-                what: "sampling.samples",
-                value: 0.0,
-                reason: "must be >= 1",
-            });
+            return Err(InvalidSetting::new("sampling.samples", 0.0, ">= 1").into());
         }
         if self.max_draws < self.samples {
-            return Err(PlacementError::InvalidSetting {
-                what: "sampling.max_draws",
-                value: self.max_draws as f64,
-                reason: "must be >= sampling.samples",
-            });
+            return Err(InvalidSetting::new(
+                "sampling.max_draws",
+                self.max_draws as f64,
+                ">= sampling.samples",
+            )
+            .into());
         }
         if self.budget.is_zero() {
-            return Err(PlacementError::InvalidSetting {
-                what: "sampling.budget",
-                value: 0.0,
-                reason: "must be > 0",
-            });
+            return Err(InvalidSetting::new("sampling.budget", 0.0, "> 0").into());
         }
         if let Some([lo, hi]) = self.distance {
             non_negative("sampling.distance[0]", lo)?;
             positive("sampling.distance[1]", hi)?;
             if lo > hi {
-                return Err(PlacementError::InvalidSetting {
-                    what: "sampling.distance",
-                    value: lo,
-                    reason: "the minimum must not exceed the maximum",
-                });
+                return Err(InvalidSetting::new(
+                    "sampling.distance[0]",
+                    lo,
+                    "at most sampling.distance[1]",
+                )
+                .into());
             }
         }
         angle("sampling.bearing_spread", self.bearing_spread)?;
         angle("sampling.yaw_jitter", self.yaw_jitter)?;
         non_negative("sampling.base_margin", self.base_margin)?;
-        non_negative("sampling.distance_weight", self.distance_weight)
+        non_negative("sampling.distance_weight", self.distance_weight)?;
+        Ok(())
     }
 }
 
@@ -345,24 +325,22 @@ impl OptimisationSettings {
         positive("optimisation.trust_region[0]", self.trust_region[0])?;
         positive("optimisation.trust_region[1]", self.trust_region[1])?;
         if self.pull_weights.is_empty() {
-            return Err(PlacementError::InvalidSetting {
-                what: "optimisation.pull_weights",
-                value: 0.0,
-                reason: "must hold at least one weight",
-            });
+            return Err(InvalidSetting::new(
+                "optimisation.pull_weights",
+                0.0,
+                "a list of at least one weight",
+            )
+            .into());
         }
-        for &w in &self.pull_weights {
-            non_negative("optimisation.pull_weights", w)?;
+        for (i, &w) in self.pull_weights.iter().enumerate() {
+            non_negative(&format!("optimisation.pull_weights[{i}]"), w)?;
         }
         non_negative("optimisation.clearance", self.clearance)?;
         if self.max_half_planes == 0 {
-            return Err(PlacementError::InvalidSetting {
-                what: "optimisation.max_half_planes",
-                value: 0.0,
-                reason: "must be >= 1",
-            });
+            return Err(InvalidSetting::new("optimisation.max_half_planes", 0.0, ">= 1").into());
         }
-        positive("optimisation.obstacle_radius", self.obstacle_radius)
+        positive("optimisation.obstacle_radius", self.obstacle_radius)?;
+        Ok(())
     }
 }
 
@@ -374,19 +352,21 @@ impl PlacementSettings {
     /// invalid IPOPT settings.
     pub fn validate(&self) -> Result<(), PlacementError> {
         if self.steps == 0 || self.steps > MAX_STEPS {
-            return Err(PlacementError::InvalidSetting {
-                what: "steps",
-                value: self.steps as f64,
-                reason: "must be in 1..=1000",
-            });
+            return Err(InvalidSetting::new(
+                "steps",
+                self.steps as f64,
+                format!("between 1 and {MAX_STEPS}"),
+            )
+            .into());
         }
         non_negative("approach_distance", self.approach_distance)?;
         if self.approach_distance > 0.0 && self.approach_steps == 0 {
-            return Err(PlacementError::InvalidSetting {
-                what: "approach_steps",
-                value: 0.0,
-                reason: "must be >= 1 with a positive approach_distance",
-            });
+            return Err(InvalidSetting::new(
+                "approach_steps",
+                0.0,
+                ">= 1 with a positive approach_distance",
+            )
+            .into());
         }
         self.manipulation.validate()?;
         self.sampling.validate()?;

@@ -57,11 +57,6 @@ pub enum TimingError {
         dimension: usize,
     },
     /// A [`BlendSettings`](super::BlendSettings) value is not positive and finite.
-    #[error("{what} = {value}: must be finite and > 0")]
-    InvalidSetting {
-        /// "max_deviation" or "time_step".
-        what: &'static str,
-        /// The value given.
-        value: f64,
-    },
+    #[error("{0}")]
+    InvalidSetting(#[from] crate::InvalidSetting),
 }

@@ -107,6 +107,7 @@ mod ramp;
 
 use serde::{Deserialize, Serialize};
 
+use crate::InvalidSetting;
 pub use error::TimingError;
 use ramp::Ramp;
 
@@ -454,7 +455,7 @@ impl BlendSettings {
             ("time_step", self.time_step),
         ] {
             if !(value.is_finite() && value > 0.0) {
-                return Err(TimingError::InvalidSetting { what, value });
+                return Err(InvalidSetting::new(what, value, "finite and > 0").into());
             }
         }
         Ok(())

@@ -4,6 +4,7 @@ use std::cell::OnceCell;
 
 use nalgebra::Isometry3;
 
+use crate::InvalidSetting;
 use crate::scene::collision::geometry::{Placed, WorldBox};
 use crate::scene::collision::settings::{Body, CollisionSettings};
 use crate::scene::ids::{BaseShapeId, Parent, PartId};
@@ -347,10 +348,7 @@ pub fn distances(
     max_distance: f64,
 ) -> Result<Vec<Contact>, Error> {
     if max_distance.is_nan() || max_distance < 0.0 {
-        return Err(Error::InvalidSetting {
-            what: "max_distance".into(),
-            value: max_distance,
-        });
+        return Err(InvalidSetting::new("max_distance", max_distance, ">= 0").into());
     }
     pairs_within(model, data, settings, None, max_distance)
 }

@@ -4,6 +4,7 @@ use std::collections::BTreeSet;
 
 use serde::{Deserialize, Serialize};
 
+use crate::InvalidSetting;
 use crate::scene::validate::check_setting_nonneg;
 use crate::scene::{BaseShapeId, Error, PartId};
 
@@ -149,15 +150,16 @@ impl SweepSettings {
     /// [`Error::InvalidSetting`] for a margin outside `(0, 1e6]`, a resolution outside
     /// `[1e-9, margin]`, or an invalid [`CollisionSettings`].
     pub fn validate(&self) -> Result<(), Error> {
-        let invalid = |what: &str, value: f64| Error::InvalidSetting {
-            what: what.into(),
-            value,
-        };
         if !(self.margin > 0.0 && self.margin <= 1e6) {
-            return Err(invalid("sweep margin", self.margin));
+            return Err(InvalidSetting::new("sweep.margin", self.margin, "in (0, 1e6]").into());
         }
         if !(self.min_margin >= 1e-9 && self.min_margin <= self.margin) {
-            return Err(invalid("sweep min_margin", self.min_margin));
+            return Err(InvalidSetting::new(
+                "sweep.min_margin",
+                self.min_margin,
+                "in [1e-9, sweep.margin]",
+            )
+            .into());
         }
         self.collision.validate()
     }

@@ -1,5 +1,6 @@
 //! The grasp-point trajectory of a one-joint motion (the paper's Eq. (3)–(5)).
 
+use crate::InvalidSetting;
 use crate::scene::kinematics::{HandlePose, forward_kinematics, joint_axis, world_from_handle};
 use crate::scene::{Error, HandleId, JointId, SceneData, SceneModel, State};
 use nalgebra::Unit;
@@ -71,10 +72,12 @@ pub fn grasp_trajectory(
     check_joint_value(model, joint, a)?;
     check_joint_value(model, joint, b)?;
     if k == 0 || k > MAX_TRAJECTORY_STEPS {
-        return Err(Error::InvalidSetting {
-            what: "trajectory steps K".into(),
-            value: k as f64,
-        });
+        return Err(InvalidSetting::new(
+            "trajectory steps K",
+            k as f64,
+            format!("between 1 and {MAX_TRAJECTORY_STEPS}"),
+        )
+        .into());
     }
     let mut start = state.clone();
     start.q[joint.0] = a;

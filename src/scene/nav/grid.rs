@@ -5,6 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use super::settings::MAX_GRID_CELLS;
 use super::shadow::{Shadow, hull_rect_distance};
+use crate::InvalidSetting;
 use crate::scene::Error;
 use crate::scene::validate::check_setting_pos;
 
@@ -44,10 +45,7 @@ impl NavGrid {
         check_setting_pos(resolution, "nav resolution")?;
         for v in [origin.x, origin.y] {
             if !v.is_finite() {
-                return Err(Error::InvalidSetting {
-                    what: "nav origin".into(),
-                    value: v,
-                });
+                return Err(InvalidSetting::new("nav origin", v, "finite").into());
             }
         }
         let cells = (width as u64).saturating_mul(height as u64);

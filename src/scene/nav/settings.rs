@@ -3,6 +3,7 @@
 use nalgebra::Point2;
 use serde::{Deserialize, Serialize};
 
+use crate::InvalidSetting;
 use crate::scene::Error;
 use crate::scene::validate::{check_setting_nonneg, check_setting_pos};
 
@@ -59,27 +60,26 @@ impl NavGridSettings {
     /// [`Error::InvalidSetting`] for a non-finite or out-of-range field (resolution <= 0,
     /// `max_height <= min_height`, negative padding, empty or non-finite bounds).
     pub fn validate(&self) -> Result<(), Error> {
-        check_setting_pos(self.resolution, "nav resolution")?;
-        check_setting_nonneg(self.padding, "nav padding")?;
+        check_setting_pos(self.resolution, "nav.resolution")?;
+        check_setting_nonneg(self.padding, "nav.padding")?;
         if !self.min_height.is_finite() {
-            return Err(Error::InvalidSetting {
-                what: "nav min_height".into(),
-                value: self.min_height,
-            });
+            return Err(InvalidSetting::new("nav.min_height", self.min_height, "finite").into());
         }
         check_setting_pos(
             self.max_height - self.min_height,
-            "nav max_height - min_height",
+            "nav.max_height - nav.min_height",
         )?;
         if let Some(b) = self.bounds {
-            check_setting_pos(b.max.x - b.min.x, "nav bounds width")?;
-            check_setting_pos(b.max.y - b.min.y, "nav bounds height")?;
-            for v in [b.min.x, b.min.y, b.max.x, b.max.y] {
+            check_setting_pos(b.max.x - b.min.x, "nav.bounds.max.x - nav.bounds.min.x")?;
+            check_setting_pos(b.max.y - b.min.y, "nav.bounds.max.y - nav.bounds.min.y")?;
+            for (field, v) in [
+                ("nav.bounds.min.x", b.min.x),
+                ("nav.bounds.min.y", b.min.y),
+                ("nav.bounds.max.x", b.max.x),
+                ("nav.bounds.max.y", b.max.y),
+            ] {
                 if !v.is_finite() {
-                    return Err(Error::InvalidSetting {
-                        what: "nav bounds".into(),
-                        value: v,
-                    });
+                    return Err(InvalidSetting::new(field, v, "finite").into());
                 }
             }
         }

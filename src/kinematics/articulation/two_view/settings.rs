@@ -1,5 +1,6 @@
 //! The settings of the two-view estimator, with their ranges.
 
+use crate::InvalidSetting;
 use crate::kinematics::articulation::error::ArticulationError;
 
 /// Settings of [`TwoView`](super::TwoView). Lengths in metres.
@@ -85,35 +86,21 @@ impl TwoViewSettings {
         ];
         for (name, value) in positive {
             if !(value.is_finite() && value > 0.0) {
-                return Err(ArticulationError::InvalidSetting {
-                    name,
-                    value,
-                    reason: "must be finite and > 0",
-                });
+                return Err(InvalidSetting::new(name, value, "finite and > 0").into());
             }
         }
         if !(self.icp_voxel.is_finite() && self.icp_voxel >= 0.0) {
-            return Err(ArticulationError::InvalidSetting {
-                name: "icp_voxel",
-                value: self.icp_voxel,
-                reason: "must be finite and ≥ 0",
-            });
+            return Err(InvalidSetting::new("icp_voxel", self.icp_voxel, "finite and ≥ 0").into());
         }
         if !(self.trim_fraction > 0.0 && self.trim_fraction <= 1.0) {
-            let value = self.trim_fraction;
-            return Err(ArticulationError::InvalidSetting {
-                name: "trim_fraction",
-                value,
-                reason: "must be in (0, 1]",
-            });
+            return Err(
+                InvalidSetting::new("trim_fraction", self.trim_fraction, "in (0, 1]").into(),
+            );
         }
         if !(self.contact_weight >= 0.0 && self.contact_weight < 1.0) {
-            let value = self.contact_weight;
-            return Err(ArticulationError::InvalidSetting {
-                name: "contact_weight",
-                value,
-                reason: "must be in [0, 1)",
-            });
+            return Err(
+                InvalidSetting::new("contact_weight", self.contact_weight, "in [0, 1)").into(),
+            );
         }
         for (name, value) in [
             ("min_part_points", self.min_part_points),
@@ -122,11 +109,7 @@ impl TwoViewSettings {
             ("min_path_poses", self.min_path_poses),
         ] {
             if value == 0 {
-                return Err(ArticulationError::InvalidSetting {
-                    name,
-                    value: 0.0,
-                    reason: "must be ≥ 1",
-                });
+                return Err(InvalidSetting::new(name, 0.0, "≥ 1").into());
             }
         }
         Ok(())
