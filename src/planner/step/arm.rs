@@ -1,0 +1,168 @@
+//! The arm's phases of a step: the straight approach and retreat along the handle's normal,
+//! the free paths to and from the stowed configuration, and the manipulation's re-check.
+
+use super::refine::{ArmPaths, Placed, StepRefinement};
+use super::{Check, Failed, check_manipulation, describe};
+use crate::kinematics::robot::Exempt;
+use crate::motion::paths::{PathOutcome, first_invalid, plan_arm};
+use crate::planner::PlannerError;
+use crate::planner::arm_check::ArmCheck;
+use crate::scene::{SceneData, forward_kinematics};
+
+impl StepRefinement<'_, '_> {
+    /// A straight part (approach or retreat), densely re-checked under the grasp rule.
+    fn straight(
+        &self,
+        path: &[Vec<f64>],
+        arm: &ArmCheck<'_>,
+        check: Check,
+        what: &str,
+    ) -> Option<Failed> {
+        first_invalid(path, self.ctx.settings.arm_check_resolution, false, &|q| {
+            arm.valid(q)
+        })
+        .map(|(seg, at)| {
+            self.fail(
+                check,
+                format!(
+                    "dense re-check: segment {seg} of the straight {what} along the handle's \
+                     normal: {}",
+                    arm.describe(&at)
+                ),
+            )
+        })
+    }
+
+    /// One free arm phase: OMPL, then the dense re-check.
+    fn arm_phase(
+        &self,
+        from: &[f64],
+        to: &[f64],
+        arm: &ArmCheck<'_>,
+        check: Check,
+        what: &str,
+    ) -> Result<Result<Vec<Vec<f64>>, Failed>, PlannerError> {
+        let ctx = self.ctx;
+        let (lower, upper) = ctx.robot.arm_bounds();
+        let outcome = plan_arm(
+            from,
+            to,
+            lower.as_slice(),
+            upper.as_slice(),
+            &|q: &[f64]| arm.valid(q),
+            &ctx.settings.paths,
+            ctx.termination,
+        )?;
+        let path = match outcome {
+            PathOutcome::Solved(p) => p,
+            other => {
+                let check = if ctx.termination.should_stop() {
+                    Check::Stopped
+                } else {
+                    check
+                };
+                return Ok(Err(self.fail(check, describe(&other, what))));
+            }
+        };
+        let resolution = ctx.settings.arm_check_resolution;
+        if let Some((seg, at)) = first_invalid(&path, resolution, false, &|q| arm.valid(q)) {
+            return Ok(Err(self.fail(
+                check,
+                format!(
+                    "dense re-check: segment {seg} of the {what}: {}",
+                    arm.describe(&at)
+                ),
+            )));
+        }
+        Ok(Ok(path))
+    }
+
+    /// The scene after the step.
+    pub(super) fn after(&self) -> Result<SceneData, PlannerError> {
+        let model = self.ctx.model;
+        let mut after = self.state.clone();
+        after.set(model, self.joint, self.step.to)?;
+        let mut data = SceneData::new(model);
+        forward_kinematics(model, &mut data, &after)?;
+        Ok(data)
+    }
+
+    /// The arm's phases: stowed → pre-grasp (nothing exempt) → straight in to the grasp (the
+    /// grasp rule); the manipulation re-checked with the part moving along with the arm; then
+    /// in the new state straight out to the post-grasp (the grasp rule) and free to stowed.
+    pub(super) fn arm_paths(
+        &self,
+        placed: &Placed,
+    ) -> Result<Result<ArmPaths, Failed>, PlannerError> {
+        let ctx = self.ctx;
+        let base = placed.base;
+        let stow = ctx.stow.as_slice();
+        let grasp = Exempt::Grasp(&self.grasped);
+
+        let inward = &placed.all[..=placed.grasp_at];
+        if let Some(f) = self.straight(
+            inward,
+            &self.arm(base, &self.data, grasp),
+            Check::Approach,
+            "approach",
+        ) {
+            return Ok(Err(f));
+        }
+        let free_before = self.arm(base, &self.data, Exempt::Nothing);
+        let free_path = match self.arm_phase(
+            stow,
+            &inward[0],
+            &free_before,
+            Check::Approach,
+            "arm approach",
+        )? {
+            Ok(p) => p,
+            Err(f) => return Ok(Err(f)),
+        };
+        let pregrasp = free_path.len() - 1;
+        let approach = free_path
+            .into_iter()
+            .chain(inward.iter().skip(1).cloned())
+            .collect();
+
+        let hit = |d: &SceneData, q: &[f64]| self.arm(base, d, grasp).hit(q);
+        let (state, joint, step) = (self.state, self.joint, self.step);
+        if let Some(reason) = check_manipulation(ctx, state, joint, step, placed.waypoints(), &hit)?
+        {
+            return Ok(Err(self.fail(Check::Manipulation, reason)));
+        }
+
+        let data_after = self.after()?;
+        let outward = &placed.all[placed.release_at..];
+        if let Some(f) = self.straight(
+            outward,
+            &self.arm(base, &data_after, grasp),
+            Check::Retreat,
+            "retreat",
+        ) {
+            return Ok(Err(f));
+        }
+        let postgrasp = outward.len() - 1;
+        let free_path = match self.arm_phase(
+            &outward[postgrasp],
+            stow,
+            &self.arm(base, &data_after, Exempt::Nothing),
+            Check::Retreat,
+            "arm retreat",
+        )? {
+            Ok(p) => p,
+            Err(f) => return Ok(Err(f)),
+        };
+        let retreat = outward
+            .iter()
+            .cloned()
+            .chain(free_path.into_iter().skip(1))
+            .collect();
+        Ok(Ok(ArmPaths {
+            approach,
+            pregrasp,
+            retreat,
+            postgrasp,
+        }))
+    }
+}

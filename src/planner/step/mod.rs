@@ -1,0 +1,302 @@
+//! Refining one single-joint change: base path, base pose, arm paths, manipulation, timing.
+//!
+//! The robot executes a step in five phases, one after the other:
+//! 1. **base**: it drives from its pose to the placement's base pose with the arm stowed
+//!    (OMPL in SE(2); the whole robot — base and stowed arm — against the base map and the parts
+//!    at the current state, with the planner's margin);
+//! 2. **approach**: the arm moves from the stowed configuration to the *pre-grasp*
+//!    configuration (OMPL in joint space; nothing exempt: every robot shape keeps the margin
+//!    from every body, the part about to be grasped included), then straight in along the
+//!    handle's inward normal to the grasp, the first waypoint of the manipulation (the
+//!    placement's approach, `placement.approach_distance`, chosen with the base pose);
+//! 3. **manipulation**: the arm follows the joint-space trajectory that keeps the tool on the
+//!    handle trajectory of Eq. (3)–(5) while the part moves with it;
+//! 4. **retreat**: the arm backs straight out along the handle's normal in the new state to
+//!    the *post-grasp* configuration, then returns to the stowed configuration (OMPL, nothing
+//!    exempt);
+//! 5. nothing else moves: the next step starts from the stowed arm at this base pose.
+//!
+//! **Contact rule.** From the pre-grasp through the manipulation to the post-grasp
+//! configuration the robot is checked with [`Exempt::Grasp`](crate::kinematics::robot::Exempt::Grasp): only the gripper's contact
+//! shapes (fingers, pads) may touch the grasped part and its descendants, and every other
+//! shape keeps the margin from every body, the grasped part included. The grasp itself stops
+//! the tool short of the handle where the fingertips would otherwise enter the part's front
+//! (see [`JointMotion::with_standoff`](crate::motion::placement::JointMotion::with_standoff)).
+//!
+//! Every path is re-checked densely by
+//! [`first_invalid`](crate::motion::paths::first_invalid) at the planner's resolution, with
+//! the same collision model but none of OMPL's code (a disagreement is a failed step, not an
+//! accepted one). Every phase is time-parameterised under the robot's velocity and
+//! acceleration limits.
+
+mod arm;
+mod refine;
+mod timing;
+
+pub(super) use refine::refine;
+
+use std::fmt;
+
+use std::sync::Mutex;
+
+use nalgebra::DVector;
+
+use super::{PlannerError, PlannerSettings};
+use crate::kinematics::ik::IkSolver;
+use crate::kinematics::robot::{RobotCollision, RobotModel};
+use crate::motion::paths::PathOutcome;
+use crate::motion::placement::{PlacementData, PlacementOutcome};
+use crate::motion::timing::TimedPath;
+use crate::scene::{JointId, PartId, SceneData, SceneModel, State, forward_kinematics};
+use crate::task::{Robot, Step, Termination};
+
+/// The check of a step that failed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Check {
+    /// No base pose from which the arm reaches every waypoint of the handle trajectory.
+    Placement,
+    /// No collision-free base path to the chosen base pose.
+    BasePath,
+    /// No collision-free arm path from the stowed configuration to the grasp (the free path
+    /// to the pre-grasp configuration or the straight line in along the handle's normal).
+    Approach,
+    /// The manipulation trajectory failed the dense re-check.
+    Manipulation,
+    /// No collision-free arm path back to the stowed configuration (the straight line out
+    /// along the handle's normal or the free path from the post-grasp configuration).
+    Retreat,
+    /// The budget ran out or the cancel flag was set during the step.
+    Stopped,
+}
+
+impl fmt::Display for Check {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Check::Placement => "base placement",
+            Check::BasePath => "base path",
+            Check::Approach => "arm approach",
+            Check::Manipulation => "manipulation",
+            Check::Retreat => "arm retreat",
+            Check::Stopped => "stopped",
+        })
+    }
+}
+
+/// A step that could not be refined: which step, which check, why.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct StepFailure {
+    /// Index of the step in the task plan tried.
+    pub step: usize,
+    /// The joint moved.
+    pub joint: String,
+    /// Its value before the step.
+    pub from: f64,
+    /// Its target value.
+    pub to: f64,
+    /// The check that failed.
+    pub check: Check,
+    /// Why, in one line.
+    pub reason: String,
+}
+
+impl fmt::Display for StepFailure {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "step {} ({:?} {:.4} -> {:.4}): {} failed: {}",
+            self.step + 1,
+            self.joint,
+            self.from,
+            self.to,
+            self.check,
+            self.reason
+        )
+    }
+}
+
+/// Execution times (s) of the phases of a step.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct StepTiming {
+    /// Driving the base.
+    pub base: f64,
+    /// Arm from stowed to the grasp.
+    pub approach: f64,
+    /// Arm along the handle trajectory.
+    pub manipulation: f64,
+    /// Arm back to stowed.
+    pub retreat: f64,
+}
+
+impl StepTiming {
+    /// Arm time: approach, manipulation and retreat (the paper's Table I "Arm").
+    pub fn arm(&self) -> f64 {
+        self.approach + self.manipulation + self.retreat
+    }
+
+    /// Base plus arm time.
+    pub fn total(&self) -> f64 {
+        self.base + self.arm()
+    }
+}
+
+/// The motion of one step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepMotion {
+    /// The joint moved.
+    pub joint: String,
+    /// Its value before the step.
+    pub from: f64,
+    /// Its value after the step.
+    pub to: f64,
+    /// The handle grasped.
+    pub handle: String,
+    /// The base pose x (m), y (m), yaw (rad) of the manipulation.
+    pub base: [f64; 3],
+    /// The base path (x, y, yaw waypoints), timed.
+    pub base_path: TimedPath,
+    /// The arm path from stowed to the first waypoint, timed: free to the pre-grasp
+    /// configuration, then straight in along the handle's normal.
+    pub approach: TimedPath,
+    /// Index in `approach.positions` of the pre-grasp configuration: from it on, the gripper's
+    /// contact shapes may touch the grasped part.
+    pub pregrasp: usize,
+    /// The arm configurations along the handle trajectory (K + 1 waypoints), timed.
+    pub manipulation: TimedPath,
+    /// The arm path back to stowed, timed: straight out along the handle's normal to the
+    /// post-grasp configuration, then free.
+    pub retreat: TimedPath,
+    /// Index in `retreat.positions` of the post-grasp configuration: up to it, the gripper's
+    /// contact shapes may touch the grasped part.
+    pub postgrasp: usize,
+    /// Execution times.
+    pub timing: StepTiming,
+}
+
+/// What every step needs.
+pub(super) struct StepContext<'a> {
+    pub robot: &'a RobotModel,
+    pub collision: &'a RobotCollision,
+    pub ik: &'a IkSolver,
+    pub settings: &'a PlannerSettings,
+    pub model: &'a SceneModel,
+    pub stow: &'a DVector<f64>,
+    pub placement: &'a Mutex<PlacementData>,
+    pub termination: &'a Termination<'a>,
+}
+
+/// The base pose the robot starts from when the problem does not give one.
+pub(super) fn start_base_of(
+    _model: &SceneModel,
+    _state: &State,
+    _first: &Step,
+    robot: &Robot,
+) -> Result<[f64; 3], PlannerError> {
+    robot.base.ok_or(PlannerError::MissingBasePose)
+}
+
+/// The parts that the gripper's contact shapes may touch while it holds `joint`'s part.
+fn grasped(model: &SceneModel, joint: JointId) -> Vec<PartId> {
+    let part = joint.part();
+    model
+        .part(part)
+        .map(|p| p.subtree().collect())
+        .unwrap_or_default()
+}
+
+/// A failed step and the parts it depends on (`None`: unknown).
+pub(super) type Failed = (StepFailure, Option<Vec<PartId>>);
+
+/// Dense re-check of the manipulation: between consecutive waypoints the arm and the joint are
+/// interpolated linearly together, at the planner's arm resolution (and at most 0.01 rad or m of
+/// the scene joint per check).
+fn check_manipulation(
+    ctx: &StepContext<'_>,
+    state: &State,
+    joint: JointId,
+    step: &Step,
+    waypoints: &[Vec<f64>],
+    hit: &dyn Fn(&SceneData, &[f64]) -> Option<String>,
+) -> Result<Option<String>, PlannerError> {
+    let model = ctx.model;
+    let k = waypoints.len().saturating_sub(1).max(1);
+    let mut data = SceneData::new(model);
+    let mut s = state.clone();
+    for (i, pair) in waypoints.windows(2).enumerate() {
+        let (a, b) = (&pair[0], &pair[1]);
+        let va = step.from + (step.to - step.from) * i as f64 / k as f64;
+        let vb = step.from + (step.to - step.from) * (i + 1) as f64 / k as f64;
+        let arm_span = a
+            .iter()
+            .zip(b)
+            .map(|(x, y)| (y - x).abs())
+            .fold(0.0, f64::max);
+        let n = ((arm_span / ctx.settings.arm_check_resolution)
+            .max((vb - va).abs() / 0.01)
+            .ceil() as usize)
+            .max(1);
+        for j in 0..=n {
+            if i > 0 && j == 0 {
+                continue;
+            }
+            let t = j as f64 / n as f64;
+            let q: Vec<f64> = a.iter().zip(b).map(|(x, y)| x + (y - x) * t).collect();
+            s.set(model, joint, va + (vb - va) * t)?;
+            forward_kinematics(model, &mut data, &s)?;
+            if let Some(what) = hit(&data, &q) {
+                return Ok(Some(format!(
+                    "between waypoints {i} and {} (scene joint at {:.4}): {what}",
+                    i + 1,
+                    va + (vb - va) * t
+                )));
+            }
+        }
+    }
+    Ok(None)
+}
+
+/// The first handle of `joint`'s part.
+fn first_handle_name(model: &SceneModel, joint: JointId) -> Result<String, PlannerError> {
+    let part = joint.part();
+    model
+        .handles()
+        .find(|(id, _)| id.part() == part)
+        .map(|(_, h)| h.name.clone())
+        .ok_or_else(|| PlannerError::NoHandle {
+            joint: model
+                .joint(joint)
+                .map(|j| j.name.clone())
+                .unwrap_or_default(),
+        })
+}
+
+/// The navigation grid's extent: x and y minima, x and y maxima (m).
+fn grid_bounds(model: &SceneModel) -> ([f64; 2], [f64; 2]) {
+    let g = model.base_grid();
+    let o = g.origin();
+    let r = g.resolution();
+    (
+        [o.x, o.y],
+        [o.x + r * g.width() as f64, o.y + r * g.height() as f64],
+    )
+}
+
+fn same_pose(a: &[f64; 3], b: &[f64; 3]) -> bool {
+    (a[0] - b[0]).abs() < 1e-9 && (a[1] - b[1]).abs() < 1e-9 && (a[2] - b[2]).abs() < 1e-9
+}
+
+fn describe(outcome: &PathOutcome, what: &str) -> String {
+    match outcome {
+        PathOutcome::Solved(_) => format!("{what}: found"),
+        PathOutcome::Infeasible(why) => format!("no {what} path: {why}"),
+        PathOutcome::Timeout(()) => format!("no {what} path within the budget"),
+        PathOutcome::Cancelled(()) => format!("{what}: cancelled"),
+    }
+}
+
+/// The parts a failed placement may depend on: the parts any evaluated sample touched. With
+/// them at the same values (and the moved part's ancestors, which place its axis), the
+/// deterministic placement fails again, whatever the other joints do.
+fn placement_causes(placement: &PlacementOutcome) -> Option<Vec<PartId>> {
+    Some(placement.obstacle_parts.clone())
+}
