@@ -1,5 +1,12 @@
 //! The crate-level error: one variant per layer, each wrapping that layer's own error enum.
 //!
+//! Every error has one place in it, whichever layer it passed through on the way up: a layer
+//! that wraps a lower layer's error (the planner wraps IK, paths and placement; paths wrap
+//! OMPL; IK and the robot model wrap Pinocchio; the task layer wraps the scene) hands it to
+//! the lower layer's variant when it becomes a [`Error`]. An IK error is always
+//! `Error::Kinematics(kinematics::Error::Ik(_))`, an OMPL exception always
+//! `Error::Motion(motion::Error::Ompl(_))`.
+//!
 //! `Err` is for bad input and broken backends only. "No plan exists", "IK did not converge",
 //! "the time budget ran out" are outcomes inside `Ok` (see each layer's status types).
 
@@ -12,18 +19,18 @@ pub enum Error {
     Scene(#[from] crate::scene::Error),
     /// Task-level sequencing: goals, settings, plan documents.
     #[error("task: {0}")]
-    Task(#[from] crate::task::Error),
+    Task(crate::task::Error),
     /// Robot kinematics and IK (Pinocchio), articulation estimation.
     #[error("kinematics: {0}")]
-    Kinematics(#[from] crate::kinematics::Error),
+    Kinematics(crate::kinematics::Error),
     /// Base and arm motion planning and optimisation (OMPL, CasADi/IPOPT).
     #[cfg(any(feature = "ompl", feature = "casadi"))]
     #[error("motion: {0}")]
-    Motion(#[from] crate::motion::Error),
+    Motion(crate::motion::Error),
     /// The hierarchical planner (task search refined by motion planning).
     #[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
     #[error("planner: {0}")]
-    Planner(#[from] crate::planner::PlannerError),
+    Planner(crate::planner::PlannerError),
     /// The articulation discovery stage.
     #[error("discovery: {0}")]
     Discovery(#[from] crate::discovery::DiscoveryError),
@@ -63,23 +70,173 @@ impl InvalidSetting {
     }
 }
 
-/// Lets `?` lift a backend error straight into the crate error.
-macro_rules! lift {
-    ($feature:meta, $backend:ty => $layer:ident :: $variant:ident => $outer:ident) => {
-        #[cfg($feature)]
-        impl From<$backend> for Error {
-            fn from(e: $backend) -> Self {
-                Error::$outer(crate::$layer::Error::$variant(e))
+impl From<crate::task::Error> for Error {
+    fn from(e: crate::task::Error) -> Self {
+        match e {
+            crate::task::Error::Scene(e) => Error::Scene(e),
+            e => Error::Task(e),
+        }
+    }
+}
+
+impl From<crate::kinematics::Error> for Error {
+    fn from(e: crate::kinematics::Error) -> Self {
+        match e {
+            #[cfg(feature = "pinocchio")]
+            crate::kinematics::Error::Robot(e) => e.into(),
+            #[cfg(feature = "pinocchio")]
+            crate::kinematics::Error::Ik(e) => e.into(),
+            e => Error::Kinematics(e),
+        }
+    }
+}
+
+impl From<crate::kinematics::articulation::ArticulationError> for Error {
+    fn from(e: crate::kinematics::articulation::ArticulationError) -> Self {
+        Error::Kinematics(crate::kinematics::Error::Articulation(e))
+    }
+}
+
+#[cfg(feature = "pinocchio")]
+impl From<kinscene_pinocchio::Error> for Error {
+    fn from(e: kinscene_pinocchio::Error) -> Self {
+        Error::Kinematics(crate::kinematics::Error::Pinocchio(e))
+    }
+}
+
+#[cfg(feature = "pinocchio")]
+impl From<crate::kinematics::robot::RobotError> for Error {
+    fn from(e: crate::kinematics::robot::RobotError) -> Self {
+        match e {
+            crate::kinematics::robot::RobotError::Pinocchio(e) => e.into(),
+            e => Error::Kinematics(crate::kinematics::Error::Robot(e)),
+        }
+    }
+}
+
+#[cfg(feature = "pinocchio")]
+impl From<crate::kinematics::ik::IkError> for Error {
+    fn from(e: crate::kinematics::ik::IkError) -> Self {
+        match e {
+            crate::kinematics::ik::IkError::Pinocchio(e) => e.into(),
+            e => Error::Kinematics(crate::kinematics::Error::Ik(e)),
+        }
+    }
+}
+
+#[cfg(any(feature = "ompl", feature = "casadi"))]
+impl From<crate::motion::Error> for Error {
+    fn from(e: crate::motion::Error) -> Self {
+        #[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
+        {
+            use crate::motion::Error as M;
+            match e {
+                M::Path(e) => e.into(),
+                M::Placement(e) => e.into(),
+                e => Error::Motion(e),
             }
         }
-    };
+        #[cfg(not(all(feature = "ompl", feature = "pinocchio", feature = "casadi")))]
+        Error::Motion(e)
+    }
 }
-lift!(feature = "pinocchio", kinscene_pinocchio::Error => kinematics::Pinocchio => Kinematics);
-lift!(feature = "pinocchio", crate::kinematics::robot::RobotError => kinematics::Robot => Kinematics);
-lift!(feature = "pinocchio", crate::kinematics::ik::IkError => kinematics::Ik => Kinematics);
-lift!(all(), crate::kinematics::articulation::ArticulationError => kinematics::Articulation => Kinematics);
-lift!(feature = "ompl", kinscene_ompl::Error => motion::Ompl => Motion);
-lift!(feature = "casadi", kinscene_casadi::Error => motion::Casadi => Motion);
-lift!(all(feature = "ompl", feature = "pinocchio", feature = "casadi"), crate::motion::paths::PathError => motion::Path => Motion);
-lift!(all(feature = "ompl", feature = "pinocchio", feature = "casadi"), crate::motion::timing::TimingError => motion::Timing => Motion);
-lift!(all(feature = "ompl", feature = "pinocchio", feature = "casadi"), crate::motion::placement::PlacementError => motion::Placement => Motion);
+
+#[cfg(feature = "ompl")]
+impl From<kinscene_ompl::Error> for Error {
+    fn from(e: kinscene_ompl::Error) -> Self {
+        Error::Motion(crate::motion::Error::Ompl(e))
+    }
+}
+
+#[cfg(feature = "casadi")]
+impl From<kinscene_casadi::Error> for Error {
+    fn from(e: kinscene_casadi::Error) -> Self {
+        Error::Motion(crate::motion::Error::Casadi(e))
+    }
+}
+
+#[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
+impl From<crate::motion::paths::PathError> for Error {
+    fn from(e: crate::motion::paths::PathError) -> Self {
+        match e {
+            crate::motion::paths::PathError::Ompl(e) => e.into(),
+            e => Error::Motion(crate::motion::Error::Path(e)),
+        }
+    }
+}
+
+#[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
+impl From<crate::motion::timing::TimingError> for Error {
+    fn from(e: crate::motion::timing::TimingError) -> Self {
+        Error::Motion(crate::motion::Error::Timing(e))
+    }
+}
+
+#[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
+impl From<crate::motion::placement::PlacementError> for Error {
+    fn from(e: crate::motion::placement::PlacementError) -> Self {
+        use crate::motion::placement::PlacementError as P;
+        match e {
+            P::Scene(e) => Error::Scene(e),
+            P::Robot(e) => e.into(),
+            P::Ik(e) => e.into(),
+            P::Casadi(e) => e.into(),
+            P::Pinocchio(e) => e.into(),
+            e => Error::Motion(crate::motion::Error::Placement(e)),
+        }
+    }
+}
+
+#[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
+impl From<crate::planner::PlannerError> for Error {
+    fn from(e: crate::planner::PlannerError) -> Self {
+        use crate::planner::PlannerError as P;
+        match e {
+            P::Scene(e) => Error::Scene(e),
+            P::Task(e) => e.into(),
+            P::Robot(e) => e.into(),
+            P::Ik(e) => e.into(),
+            P::Placement(e) => e.into(),
+            P::Path(e) => e.into(),
+            P::Timing(e) => e.into(),
+            e => Error::Planner(e),
+        }
+    }
+}
+
+#[cfg(all(test, feature = "ompl", feature = "pinocchio", feature = "casadi"))]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_lower_layer_error_has_one_place_whatever_layer_it_passed() {
+        use crate::kinematics::ik::IkError;
+        use crate::planner::PlannerError;
+        let ik = || IkError::UnknownFrame { index: 9, count: 3 };
+        let direct: Error = ik().into();
+        let through_planner: Error = PlannerError::Ik(ik()).into();
+        let through_placement: Error =
+            PlannerError::Placement(crate::motion::placement::PlacementError::Ik(ik())).into();
+        for e in [direct, through_planner, through_placement] {
+            assert!(
+                matches!(
+                    e,
+                    Error::Kinematics(crate::kinematics::Error::Ik(IkError::UnknownFrame {
+                        index: 9,
+                        ..
+                    }))
+                ),
+                "{e:?}"
+            );
+        }
+        let scene = || crate::scene::Error::UnknownJoint { name: "j".into() };
+        let through_task: Error = crate::task::Error::Scene(scene()).into();
+        let through_planner: Error = PlannerError::Task(crate::task::Error::Scene(scene())).into();
+        for e in [through_task, through_planner] {
+            assert!(
+                matches!(e, Error::Scene(crate::scene::Error::UnknownJoint { .. })),
+                "{e:?}"
+            );
+        }
+    }
+}
