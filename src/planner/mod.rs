@@ -28,17 +28,22 @@
 
 mod arm_check;
 mod document;
+mod outcome;
 mod reach;
 mod settings;
 mod step;
 mod timed;
+mod veto;
 
 pub use document::{MotionDocument, StepDocument};
+pub use outcome::{
+    MotionInfeasibility, MotionOutcome, MotionPlan, PlannerResult, Progress, RefineOutcome,
+    StopPoint,
+};
 pub use reach::arm_reach;
 pub use settings::PlannerSettings;
 pub use step::{Check, StepFailure, StepMotion, StepTiming};
 
-use std::fmt;
 use std::sync::Mutex;
 use std::time::Instant;
 
@@ -49,11 +54,11 @@ use crate::kinematics::robot::{RobotCollision, RobotConfig, RobotError, RobotMod
 use crate::motion::paths::PathError;
 use crate::motion::placement::{PlacementData, PlacementError};
 use crate::motion::timing::TimingError;
-use crate::scene::{JointId, PartId, SceneModel, State};
+use crate::scene::SceneModel;
 use crate::task::{
-    self, Infeasibility, MoveContext, Outcome, Partial, Plan, Problem, Refinement, SearchStats,
-    Termination,
+    self, Infeasibility, MoveContext, Outcome, Plan, Problem, Refinement, SearchStats, Termination,
 };
+use veto::VetoRule;
 
 /// Errors of the hierarchical planner: bad input and broken backends only.
 #[non_exhaustive]
@@ -95,188 +100,6 @@ pub enum PlannerError {
         /// The joint.
         joint: String,
     },
-}
-
-/// An executable plan: the task plan and, step by step, its motion.
-#[derive(Debug, Clone, PartialEq)]
-pub struct MotionPlan {
-    /// The order of single-joint changes.
-    pub task: Plan,
-    /// The motion of every step, in order (`steps[i]` refines `task.steps[i]`).
-    pub steps: Vec<StepMotion>,
-}
-
-impl MotionPlan {
-    /// Total execution time (s): base and arm motions of all steps, executed one after another.
-    pub fn duration(&self) -> f64 {
-        self.steps.iter().map(|s| s.timing.total()).sum()
-    }
-}
-
-/// The verdict of the hierarchical planner: [`Solved`](crate::Outcome::Solved) when every step
-/// refined, [`Infeasible`](crate::Outcome::Infeasible) when no order of moves refines (the task
-/// search ran out of orders once the vetoes were added), or
-/// [`Timeout`](crate::Outcome::Timeout) / [`Cancelled`](crate::Outcome::Cancelled) with where
-/// the planner was and the vetoes found so far.
-pub type MotionOutcome = crate::Outcome<MotionPlan, MotionInfeasibility, Progress>;
-
-/// Why no order of moves refines.
-#[derive(Debug, Clone, PartialEq)]
-pub struct MotionInfeasibility {
-    /// The task search's infeasibility report (after the vetoes).
-    pub task: Infeasibility,
-    /// The motion failures that vetoed moves, in the order they were found; `task` is about
-    /// the orders left after them.
-    pub vetoes: Vec<StepFailure>,
-}
-
-impl fmt::Display for MotionInfeasibility {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.vetoes.first() {
-            // The motion layer's verdict leads: the task search's own explanation is about the
-            // orders left after the vetoes.
-            Some(first) => write!(
-                f,
-                "{first}; the motion layer vetoed {} move(s) in all, and then {}",
-                self.vetoes.len(),
-                self.task
-            ),
-            None => write!(f, "{}", self.task),
-        }
-    }
-}
-
-/// What the hierarchical planner hands back when its [`Termination`] stopped it.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Progress {
-    /// Where it stopped.
-    pub at: StopPoint,
-    /// The motion failures found so far, in the order found.
-    pub vetoes: Vec<StepFailure>,
-}
-
-/// Where the hierarchical planner was when it stopped.
-#[derive(Debug, Clone, PartialEq)]
-pub enum StopPoint {
-    /// Between a vetoed order and the next task search.
-    BetweenTaskPlans,
-    /// In the task search, with the plan to the explored state closest to the goal.
-    TaskSearch(Partial),
-    /// Refining a step of an order: the step, with [`Check::Stopped`] and the phase it was
-    /// in.
-    Refining(StepFailure),
-}
-
-impl fmt::Display for StopPoint {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            StopPoint::BetweenTaskPlans => f.write_str("stopped between task plans"),
-            StopPoint::TaskSearch(partial) => write!(f, "stopped in the task search; {partial}"),
-            StopPoint::Refining(step) => write!(f, "stopped refining {step}"),
-        }
-    }
-}
-
-impl fmt::Display for Progress {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}", self.at)?;
-        if let Some(first) = self.vetoes.first() {
-            write!(
-                f,
-                "; the motion layer had vetoed {} move(s), first: {first}",
-                self.vetoes.len()
-            )?;
-        }
-        Ok(())
-    }
-}
-
-/// [`MotionOutcome`] plus statistics.
-#[derive(Debug, Clone, PartialEq)]
-pub struct PlannerResult {
-    /// The verdict.
-    pub outcome: MotionOutcome,
-    /// Task plans proposed (1 when the first order refined).
-    pub task_plans: usize,
-    /// Statistics of the last task search.
-    pub task_stats: SearchStats,
-    /// Time spent in the task search (s).
-    pub task_time: f64,
-    /// Time spent refining (s).
-    pub motion_time: f64,
-}
-
-/// A vetoed move and the states it is vetoed in: every state that agrees with the failed one on
-/// the `fixed` joints (values compared bit for bit, as the task search produces them from its
-/// lattice). A failure whose causes are known (parts the robot collided with, and the moved
-/// part's ancestors, which place its axis) fixes only those joints, so the search does not
-/// refine the same hopeless move again in states that differ elsewhere; an unattributed failure
-/// fixes every joint.
-#[derive(Debug, Clone, PartialEq)]
-struct VetoRule {
-    joint: usize,
-    from: u64,
-    to: u64,
-    fixed: Vec<(usize, u64)>,
-    /// The parts whose configuration may matter (`None`: unknown, every joint may).
-    blockers: Option<Vec<PartId>>,
-    reason: String,
-}
-
-impl VetoRule {
-    fn new(
-        model: &SceneModel,
-        state: &State,
-        joint: JointId,
-        to: f64,
-        causes: Option<&[PartId]>,
-        reason: String,
-    ) -> Self {
-        let values = state.as_slice();
-        let from = values[joint.index()];
-        let fixed: Vec<(usize, u64)> = match causes {
-            None => values
-                .iter()
-                .enumerate()
-                .map(|(i, v)| (i, v.to_bits()))
-                .collect(),
-            Some(parts) => {
-                let mut joints: Vec<usize> = parts.iter().map(|p| p.joint().index()).collect();
-                // The part's ancestors place its handle (the part itself is keyed by `from`).
-                joints.extend(
-                    model
-                        .path_to_base(joint.part())
-                        .skip(1)
-                        .map(|p| p.joint().index()),
-                );
-                joints.sort_unstable();
-                joints.dedup();
-                joints
-                    .into_iter()
-                    .map(|j| (j, values[j].to_bits()))
-                    .collect()
-            }
-        };
-        VetoRule {
-            joint: joint.index(),
-            from: from.to_bits(),
-            to: to.to_bits(),
-            fixed,
-            blockers: causes.map(<[PartId]>::to_vec),
-            reason,
-        }
-    }
-
-    fn matches(&self, state: &State, joint: JointId, to: f64) -> bool {
-        let values = state.as_slice();
-        self.joint == joint.index()
-            && self.to == to.to_bits()
-            && values.get(self.joint).map(|v| v.to_bits()) == Some(self.from)
-            && self
-                .fixed
-                .iter()
-                .all(|(j, v)| values.get(*j).map(|x| x.to_bits()) == Some(*v))
-    }
 }
 
 /// Task search plus motion refinement for one robot. Build once, plan many times; the robot's
@@ -527,13 +350,6 @@ impl HierarchicalPlanner {
         Ok(Refined::All(steps))
     }
 }
-
-/// How refining one given order ended ([`HierarchicalPlanner::refine`]):
-/// [`Solved`](crate::Outcome::Solved) when every step refined,
-/// [`Infeasible`](crate::Outcome::Infeasible) with the step that failed and its check (the steps
-/// before it refined), or [`Timeout`](crate::Outcome::Timeout) /
-/// [`Cancelled`](crate::Outcome::Cancelled) with the step being refined ([`Check::Stopped`]).
-pub type RefineOutcome = crate::Outcome<MotionPlan, StepFailure, StepFailure>;
 
 /// What the rounds of [`HierarchicalPlanner::plan`] have counted: task searches and the time in
 /// each layer.
