@@ -32,7 +32,9 @@ use std::process::ExitCode;
 
 use clap::Parser;
 
-use kinscene_kitchen::pipeline::{self, Config, EstimatorChoice, Experiment, ExploreScope};
+use kinscene_kitchen::pipeline::{
+    self, Config, EstimatorChoice, Experiment, ExploreScope, ViewpointChoice,
+};
 
 /// The kitchen example: mapping → articulation discovery → scene-level manipulation in a
 /// simulated kitchen, and the paper's experiments.
@@ -99,6 +101,10 @@ struct Args {
     /// Head camera rays, COLUMNSxROWS (default 320x240; 160x120 with --quick).
     #[arg(long, value_parser = parse_rays)]
     head_rays: Option<(usize, usize)>,
+    /// The mapping viewpoints of the kitchen run: kitchen (the hand-placed list) or computed
+    /// (from the base map, as a --scene run always does).
+    #[arg(long, default_value = "kitchen")]
+    viewpoints: String,
     /// Put wall-clock times into the report.
     #[arg(long)]
     wall_clock: bool,
@@ -158,6 +164,15 @@ fn config(args: &Args) -> Result<Config, pipeline::PipelineError> {
             ..base.discovery
         },
         scene: args.scene.clone().unwrap_or(base.scene.clone()),
+        viewpoints: match args.viewpoints.trim() {
+            "kitchen" => ViewpointChoice::Kitchen,
+            "computed" => ViewpointChoice::Computed,
+            other => {
+                return Err(pipeline::PipelineError::Config(format!(
+                    "unknown viewpoints {other:?} (expected kitchen or computed)"
+                )));
+            }
+        },
         ..base
     })
 }
