@@ -4,6 +4,8 @@
 //! bash setup.sh && cargo run --release -p kinscene-kitchen              # the full run
 //! cargo run --release -p kinscene-kitchen -- --quick                    # small sizes
 //! cargo run --release -p kinscene-kitchen -- --experiments fig5,table2 --runs 3 --seed 7
+//! cargo run --release -p kinscene-kitchen -- --scene examples/scenes/galley.urdf \
+//!     --goal examples/scenes/goals/galley.toml --out out/galley    # another scene
 //! ```
 //!
 //! A mobile manipulator (the Kinova Gen3 on an omnidirectional base) in a rapier3d physics
@@ -13,6 +15,16 @@
 //! `out/kitchen`) receives `report.md` (every figure; the paper's Fig. 5, Table I, Table II and
 //! Fig. 6), `report.json`, `plans/*.json` (the plan documents and execution records),
 //! `twin.urdf` (the estimated scene) and SVG pictures.
+//!
+//! With `--scene FILE.urdf --goal FILE.toml` the three stages run once on that scene instead
+//! (any scene URDF that follows the scene conventions of `kinscene::scene::urdf`): mapping
+//! from viewpoints computed from its base map, discovery of every mapped handle, and the goal
+//! (true joint names, `{ min = ... }` targets, the start pose in `[robot] base`) planned on the
+//! estimated model and executed. The output folder (default `out/<scene name>`) receives
+//! `twin.urdf`, `discovery.json`, `plans/goal.json`, `plans/goal.exec.json` and `report.md`.
+//! The paper's experiments need the kitchen's ground truth (its goal sequences and Table I
+//! parts): `--experiments`, `--runs`, `--sequences` and `--needed-only` with `--scene` are
+//! usage errors.
 
 use std::io::Write as _;
 use std::path::PathBuf;
@@ -20,7 +32,9 @@ use std::process::ExitCode;
 
 use clap::Parser;
 
-use kinscene_kitchen::pipeline::{self, Config, EstimatorChoice, Experiment, ExploreScope};
+use kinscene_kitchen::pipeline::{
+    self, Config, EstimatorChoice, Experiment, ExploreScope, ViewpointChoice,
+};
 
 /// The kitchen example: mapping → articulation discovery → scene-level manipulation in a
 /// simulated kitchen, and the paper's experiments.
@@ -30,9 +44,17 @@ struct Args {
     /// Seed of everything random (run r uses seed + r).
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Output folder.
-    #[arg(long, default_value = "out/kitchen")]
-    out: PathBuf,
+    /// Output folder (default out/kitchen, or out/<scene name> with --scene).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Run mapping, discovery and the --goal file on this scene URDF instead of the paper's
+    /// experiments on the kitchen.
+    #[arg(long, requires = "goal", conflicts_with_all = ["experiments", "runs", "sequences", "needed_only"])]
+    scene: Option<PathBuf>,
+    /// The goal of a --scene run (TOML, kinscene::task::GoalSpec; true joint names, the robot's
+    /// start in [robot] base).
+    #[arg(long, requires = "scene")]
+    goal: Option<PathBuf>,
     /// Depth noise of the cameras (m, standard deviation).
     #[arg(long, default_value_t = 0.005)]
     depth_noise: f64,
@@ -79,6 +101,10 @@ struct Args {
     /// Head camera rays, COLUMNSxROWS (default 320x240; 160x120 with --quick).
     #[arg(long, value_parser = parse_rays)]
     head_rays: Option<(usize, usize)>,
+    /// The mapping viewpoints of the kitchen run: kitchen (the hand-placed list) or computed
+    /// (from the base map, as a --scene run always does).
+    #[arg(long, default_value = "kitchen")]
+    viewpoints: String,
     /// Put wall-clock times into the report.
     #[arg(long)]
     wall_clock: bool,
@@ -137,15 +163,69 @@ fn config(args: &Args) -> Result<Config, pipeline::PipelineError> {
                 .map_or(base.discovery.axis_snap, f64::to_radians),
             ..base.discovery
         },
+        scene: args.scene.clone().unwrap_or(base.scene.clone()),
+        viewpoints: match args.viewpoints.trim() {
+            "kitchen" => ViewpointChoice::Kitchen,
+            "computed" => ViewpointChoice::Computed,
+            other => {
+                return Err(pipeline::PipelineError::Config(format!(
+                    "unknown viewpoints {other:?} (expected kitchen or computed)"
+                )));
+            }
+        },
         ..base
     })
 }
 
+/// The `--scene` run: prints the stages' lines and where the report is.
+fn scene_main(args: &Args, scene: &std::path::Path, goal: &std::path::Path) -> ExitCode {
+    let out = args.out.clone().unwrap_or_else(|| {
+        let stem = scene
+            .file_stem()
+            .map_or("scene".into(), |s| s.to_string_lossy());
+        PathBuf::from("out").join(stem.as_ref())
+    });
+    let result = config(args).and_then(|c| pipeline::run_scene(&c, goal, Some(&out), !args.quiet));
+    match result {
+        Ok(report) => {
+            let mut stdout = std::io::stdout().lock();
+            let _ = writeln!(
+                stdout,
+                "kitchen: {}: {} of {} true handles mapped, {} parts registered ({} matched); \
+                 plan {}; execution {}",
+                report.scene,
+                report.mapping.true_mapped.len(),
+                report.joints.len(),
+                report.discovery.registered,
+                report.discovery.matches.len(),
+                report.plan.status,
+                report
+                    .execution
+                    .as_ref()
+                    .map_or("not run", |v| v.category.name())
+            );
+            let _ = writeln!(stdout, "wrote {}", out.join("report.md").display());
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("kitchen: error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
 fn main() -> ExitCode {
     let args = Args::parse();
+    if let (Some(scene), Some(goal)) = (&args.scene, &args.goal) {
+        return scene_main(&args, scene, goal);
+    }
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("out/kitchen"));
     let result = config(&args).and_then(|c| {
         let started = std::time::Instant::now();
-        let report = pipeline::run(&c, Some(&args.out), !args.quiet)?;
+        let report = pipeline::run(&c, Some(&out), !args.quiet)?;
         Ok((report, started.elapsed()))
     });
     match result {
@@ -169,7 +249,7 @@ fn main() -> ExitCode {
                     .base_ratio()
                     .map_or("–".to_string(), |r| format!("{r:.2}×"))
             );
-            let _ = writeln!(stdout, "wrote {}", args.out.join("report.md").display());
+            let _ = writeln!(stdout, "wrote {}", out.join("report.md").display());
             ExitCode::SUCCESS
         }
         Err(e) => {

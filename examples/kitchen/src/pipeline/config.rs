@@ -136,6 +136,16 @@ pub enum ExploreScope {
     Needed,
 }
 
+/// Where the mapping stage's viewpoints come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum ViewpointChoice {
+    /// The kitchen's hand-placed list ([`VIEWPOINTS`](super::stages::VIEWPOINTS)).
+    #[default]
+    Kitchen,
+    /// Computed from the base map ([`viewpoints`](super::viewpoints::viewpoints)).
+    Computed,
+}
+
 /// A method of the manipulation experiments.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 pub enum Method {
@@ -212,6 +222,10 @@ pub struct Config {
     pub head_rays: Option<(usize, usize)>,
     /// Settings of Algorithm 1 (see [`Config::default`] for the kitchen's values).
     pub discovery: DiscoverySettings,
+    /// The mapping viewpoints of the experiments' runs (a run on another scene always computes
+    /// them).
+    #[serde(default)]
+    pub viewpoints: ViewpointChoice,
 }
 
 /// Algorithm 1's settings for the kitchen and the simulated Gen3: the library defaults except
@@ -273,6 +287,7 @@ impl Default for Config {
             table1_parts: None,
             head_rays: None,
             discovery: kitchen_discovery_settings(),
+            viewpoints: ViewpointChoice::Kitchen,
         }
     }
 }

@@ -112,7 +112,9 @@ pub fn check_sequences(
 }
 
 /// The old example's table: every goal file in `goals` on `truth` with the lattice search, the
-/// validator and the Random and Paper baselines (seed 1). Unreadable files are rows saying so.
+/// validator and the Random and Paper baselines (seed 1). Unreadable files are rows saying so;
+/// goal files of other scenes (whose targets name no joint of `truth`, such as the counter's
+/// and the galley's) are left out.
 ///
 /// # Errors
 /// [`PipelineError::Io`] if the directory cannot be listed.
@@ -142,9 +144,16 @@ pub fn task_level(truth: &SceneModel, goals: &Path) -> Result<Vec<TaskLevelRow>,
             paper: "–".into(),
             wall_ms: 0.0,
         };
-        let problem = match std::fs::read_to_string(&f)
+        let spec = std::fs::read_to_string(&f)
             .map_err(|e| e.to_string())
-            .and_then(|t| GoalSpec::from_toml(&t).map_err(|e| e.to_string()))
+            .and_then(|t| GoalSpec::from_toml(&t).map_err(|e| e.to_string()));
+        if let Ok(spec) = &spec
+            && !spec.goal.is_empty()
+            && spec.goal.keys().all(|j| truth.joint_id(j).is_err())
+        {
+            continue;
+        }
+        let problem = match spec
             .and_then(|spec| Problem::from_spec(truth, &spec).map_err(|e| e.to_string()))
         {
             Ok(p) => p,

@@ -84,7 +84,7 @@ impl Report {
         let _ = writeln!(
             s,
             "The three stages of the paper on the simulated kitchen `{}` ({} parts, {} handles, \
-             {} base shapes): **mapping** (fixed viewpoints, handle detection, fusion, \
+             {} base shapes): **mapping** ({} viewpoints, handle detection, fusion, \
              registration) → **articulation discovery** (Algorithm 1 in a rapier3d physics \
              world, {} estimator) → **scene-level manipulation** (the hierarchical planner with \
              the Kinova Gen3 on its omnidirectional base, executed in the simulator).\n",
@@ -92,6 +92,10 @@ impl Report {
             self.scene.parts,
             self.scene.handles,
             self.scene.base_shapes,
+            match c.viewpoints {
+                super::ViewpointChoice::Kitchen => "fixed",
+                super::ViewpointChoice::Computed => "computed",
+            },
             c.estimator.name()
         );
         let _ = writeln!(

@@ -1,7 +1,8 @@
 //! The kitchen's three-stage pipeline and the paper's experiments, as a library-like module
 //! (the example's `main` and the tests call [`run`]).
 //!
-//! 1. **Mapping** ([`stages::map`]): the simulated robot drives through fixed viewpoints,
+//! 1. **Mapping** ([`stages::map`]): the simulated robot drives through viewpoints (the
+//!    kitchen's hand-placed ones, or computed from the base map: [`viewpoints`]),
 //!    detects handles, fuses the detections and registers them against the static base map
 //!    (the true URDF's base link: a perfect SLAM map).
 //! 2. **Discovery**: the handle selector orders the mapped handles
@@ -25,10 +26,12 @@ mod markdown;
 mod matching;
 mod output;
 mod progress;
+mod scene_run;
 mod sequences;
 mod session;
 mod stages;
 mod summary;
+pub mod viewpoints;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -41,10 +44,11 @@ use kinscene::scene::urdf;
 use super::report::svg;
 use super::sim;
 
-pub use config::{Config, EstimatorChoice, Experiment, ExploreScope, Method};
+pub use config::{Config, EstimatorChoice, Experiment, ExploreScope, Method, ViewpointChoice};
 pub use manipulation::{Category, PRISMATIC_TOLERANCE, REVOLUTE_TOLERANCE};
-pub use sequences::{EXTRA_SEQUENCES, SEQUENCES};
-pub use stages::selection_order;
+pub use scene_run::{PlanSummary, SceneRunReport, run_scene};
+pub use sequences::{EXTRA_SEQUENCES, SEQUENCES, START_BASE};
+pub use stages::{pose, selection_order};
 pub use summary::Report;
 
 use manipulation::Planning;
@@ -225,6 +229,15 @@ pub fn run(config: &Config, out: Option<&Path>, progress: bool) -> Result<Report
         methods,
         needed,
         scene_dir: scene_dir.clone(),
+        viewpoints: match config.viewpoints {
+            ViewpointChoice::Kitchen => stages::kitchen_viewpoints(),
+            ViewpointChoice::Computed => viewpoints::viewpoints(
+                truth.base(),
+                robot.base().footprint_radius,
+                sequences::START_BASE,
+                &viewpoints::ViewpointSettings::default(),
+            )?,
+        },
         ui: Progress::new(progress, per_run * config.runs as u64),
         report: Report {
             config: config.clone(),

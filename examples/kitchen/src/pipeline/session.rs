@@ -74,7 +74,7 @@ pub fn discovery_run(
 }
 
 /// Writes `model` as URDF and reads it back (meshes resolve against `mesh_base`).
-fn twin(model: &SceneModel, mesh_base: &Path) -> (String, Result<usize, String>) {
+pub fn twin(model: &SceneModel, mesh_base: &Path) -> (String, Result<usize, String>) {
     match urdf::write_string(model, &urdf::ExportOptions::default()) {
         Ok(xml) => {
             let options = urdf::ImportOptions {
@@ -112,6 +112,8 @@ pub struct Session<'a> {
     pub needed: BTreeSet<String>,
     /// The scene's folder (meshes, goals).
     pub scene_dir: PathBuf,
+    /// The mapping viewpoints: x (m), y (m), yaw (rad), in order.
+    pub viewpoints: Vec<[f64; 3]>,
     /// Progress output.
     pub ui: Progress,
     /// The report being filled.
@@ -149,7 +151,8 @@ impl Session<'_> {
         // Stage 1: mapping.
         self.ui.doing(format!("run {r}: mapping"));
         let t0 = Instant::now();
-        let (mut handles, mapping) = stages::map(&mut world, truth.base(), self.truth_parts)?;
+        let (mut handles, mapping) =
+            stages::map(&mut world, truth.base(), &self.viewpoints, self.truth_parts)?;
         stages::selection_order(&mut handles, START_BASE);
         if config.explore == ExploreScope::Needed {
             let (parts, needed) = (self.truth_parts, &self.needed);

@@ -4,3 +4,4 @@ mod pipeline_tests;
 mod sensors_tests;
 mod sim_tests;
 mod svg_tests;
+mod viewpoint_tests;
