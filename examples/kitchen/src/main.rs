@@ -44,7 +44,7 @@ struct Args {
     /// Seed of everything random (run r uses seed + r).
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Output folder (default out/kitchen, or out/<scene name> with --scene).
+    /// Output folder (default out/kitchen, or out/SCENE (the scene file name) with --scene).
     #[arg(long)]
     out: Option<PathBuf>,
     /// Run mapping, discovery and the --goal file on this scene URDF instead of the paper's
@@ -52,7 +52,7 @@ struct Args {
     #[arg(long, requires = "goal", conflicts_with_all = ["experiments", "runs", "sequences", "needed_only"])]
     scene: Option<PathBuf>,
     /// The goal of a --scene run (TOML, kinscene::task::GoalSpec; true joint names, the robot's
-    /// start in [robot] base).
+    /// start in the robot table's base key).
     #[arg(long, requires = "scene")]
     goal: Option<PathBuf>,
     /// Depth noise of the cameras (m, standard deviation).

@@ -86,7 +86,7 @@ struct Face {
 ///
 /// Steps: the base map's grid and its floor ([`grids`]); the faces to cover ([`faces`]); the
 /// free candidate positions the robot reaches from the start ([`candidates`]); what each
-/// candidate pose sees ([`coverage`]); the greedy cover ([`greedy`]); the tour
+/// candidate pose sees ([`visible_faces`]); the greedy cover ([`greedy`]); the tour
 /// ([`nearest_neighbour_tour`]).
 ///
 /// # Errors
