@@ -180,6 +180,9 @@ impl HierarchicalPlanner {
         problem: &Problem,
         termination: &Termination<'_>,
     ) -> Result<PlannerResult, PlannerError> {
+        // The base paths live on the navigation grid: grow it to the robot's start once here,
+        // so the task layer and every step see the same grid.
+        let model = &*model.covering(&problem.robot.start_point())?;
         let vetoes: Mutex<Vec<VetoRule>> = Mutex::new(Vec::new());
         let mut failures: Vec<StepFailure> = Vec::new();
         let mut rounds = Rounds::default();

@@ -163,6 +163,54 @@ impl SceneModel {
         &self.base_grid
     }
 
+    /// This model, or a copy of it whose navigation grid also covers `points`.
+    ///
+    /// With automatic bounds ([`NavGridSettings::bounds`](super::nav::NavGridSettings) `None`),
+    /// the grid spans the base shapes plus `padding`, so a robot that starts farther than the
+    /// padding from every base shape would be off the map. For every point outside the grid,
+    /// the copy's explicit bounds are the grid's extent grown to the point plus `padding` on
+    /// every side (the same margin the automatic bounds give the shapes); its cells are
+    /// aligned with this grid's, so every cell this grid has keeps its occupancy. A model
+    /// whose grid already covers every point, or whose bounds the user set explicitly, is
+    /// returned as is (a point off explicit bounds stays the caller's input error).
+    /// Non-finite points are left to the caller's checks.
+    ///
+    /// # Errors
+    /// [`Error::GridTooLarge`] when the grown grid would exceed
+    /// [`MAX_GRID_CELLS`](super::nav::MAX_GRID_CELLS).
+    pub fn covering(
+        &self,
+        points: &[nalgebra::Point2<f64>],
+    ) -> Result<std::borrow::Cow<'_, SceneModel>, Error> {
+        let g = &self.base_grid;
+        let off: Vec<_> = points
+            .iter()
+            .filter(|p| p.x.is_finite() && p.y.is_finite() && g.cell_of(**p).is_none())
+            .collect();
+        if off.is_empty() || self.base.nav.bounds.is_some() {
+            return Ok(std::borrow::Cow::Borrowed(self));
+        }
+        let (o, r) = (g.origin(), g.resolution());
+        let (mut lo, mut hi) = (
+            o,
+            nalgebra::Point2::new(o.x + r * g.width() as f64, o.y + r * g.height() as f64),
+        );
+        let pad = self.base.nav.padding;
+        for p in off {
+            lo = nalgebra::Point2::new(lo.x.min(p.x - pad), lo.y.min(p.y - pad));
+            hi = nalgebra::Point2::new(hi.x.max(p.x + pad), hi.y.max(p.y + pad));
+        }
+        // Keep the cells aligned: move the lower corner down by whole cells.
+        let min = nalgebra::Point2::new(
+            o.x - ((o.x - lo.x) / r).ceil() * r,
+            o.y - ((o.y - lo.y) / r).ceil() * r,
+        );
+        let mut builder = self.to_builder();
+        let mut nav = self.base.nav.clone();
+        nav.bounds = Some(super::nav::GridBounds { min, max: hi });
+        builder.nav_settings(nav);
+        Ok(std::borrow::Cow::Owned(builder.build()?))
+    }
     /// The description this model was built from, in id order (parents before children).
     /// `to_builder().build()` gives an equal model.
     pub fn to_builder(&self) -> SceneModelBuilder {

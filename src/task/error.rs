@@ -40,7 +40,8 @@ pub enum Error {
         /// What is wrong.
         message: String,
     },
-    /// The robot's start pose is outside the navigation grid or inside an obstacle.
+    /// The robot's start pose is outside the navigation grid's explicit bounds or inside an
+    /// obstacle.
     #[error("robot start ({x}, {y}) is {why}")]
     InvalidRobotStart {
         /// Start x (m).

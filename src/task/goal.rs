@@ -246,6 +246,15 @@ pub struct Robot {
 }
 
 impl Robot {
+    /// The start position (x, y) as a list of at most one point: what the navigation grid must
+    /// cover ([`SceneModel::covering`](crate::scene::SceneModel::covering)).
+    pub fn start_point(&self) -> Vec<nalgebra::Point2<f64>> {
+        self.base
+            .iter()
+            .map(|b| nalgebra::Point2::new(b[0], b[1]))
+            .collect()
+    }
+
     /// Validates a [`RobotSpec`].
     ///
     /// # Errors

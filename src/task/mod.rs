@@ -174,8 +174,9 @@ use crate::scene::{JointId, SceneData, SceneModel};
 /// Plans the order of single-joint changes that takes `problem.start` to `problem.goal`.
 ///
 /// # Errors
-/// Only for bad input: [`Error::InvalidSetting`], a robot start outside the grid or inside an
-/// obstacle ([`Error::InvalidRobotStart`]), a start state that does not fit the model, a start
+/// Only for bad input: [`Error::InvalidSetting`], a robot start outside explicit grid bounds
+/// or inside an obstacle ([`Error::InvalidRobotStart`]; a start off automatic bounds grows the
+/// grid, see [`SceneModel::covering`]), a start state that does not fit the model, a start
 /// state in which bodies collide ([`Error::StartInCollision`], checked before any search).
 /// Infeasible goals and exhausted budgets are [`Outcome`]s.
 ///
@@ -210,6 +211,7 @@ pub fn plan(
 ) -> Result<PlanResult, Error> {
     settings.validate()?;
     problem.start.validate(model)?;
+    let model = &*model.covering(&problem.robot.start_point())?;
     start::check_start(model, &problem.start, &settings.sweep.collision)?;
     let mut result = match settings.strategy {
         Strategy::Search => search::run(model, problem, settings, refiner, termination),

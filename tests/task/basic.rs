@@ -54,3 +54,49 @@ fn single_door_opens_in_one_step() {
     assert!(p.steps[0].to >= 1.2);
     eprintln!("{p:#?} {:?}", r.stats);
 }
+
+/// A robot that starts farther from every body than the navigation grid's automatic padding
+/// (1 m): the model's grid spans the base shapes only (none here: [-1, 1]² about the origin),
+/// so (3.5, -2.5) is off it. The grid grows to the start instead of rejecting it, and the plan
+/// drives there: by the triangle inequality its grid path is at least as long as the straight
+/// line from the start to the base pose it chooses, and the independent validator (its own
+/// grid search on the grown grid) accepts it.
+#[test]
+fn a_start_beyond_the_grid_padding_grows_the_grid() {
+    let model = door();
+    let (sx, sy) = (3.5, -2.5);
+    assert!(
+        model
+            .base_grid()
+            .cell_of(nalgebra::Point2::new(sx, sy))
+            .is_none(),
+        "the start is off the model's own grid"
+    );
+    let spec = GoalSpec::from_toml(&format!(
+        "[goal]\nhinge = {{ min = 1.2 }}\n[robot]\nbase = [{sx}, {sy}, 0.0]"
+    ))
+    .unwrap();
+    let problem = Problem::from_spec(&model, &spec).unwrap();
+    let settings = TaskSettings::default();
+    let r = plan(
+        &model,
+        &problem,
+        &settings,
+        &NoRefinement,
+        &Termination::none(),
+    )
+    .unwrap();
+    let Outcome::Solved(p) = r.outcome else {
+        panic!("expected a plan, got {:?}", r.outcome)
+    };
+    assert_eq!(p.steps.len(), 1, "{p:?}");
+    let [bx, by, _] = p.steps[0].base.expect("the step has a base pose");
+    let straight = (bx - sx).hypot(by - sy);
+    assert!(
+        p.steps[0].travel >= straight - 1e-9,
+        "travel {} < straight line {straight}",
+        p.steps[0].travel
+    );
+    let v = kinscene::task::validate(&model, &problem, &p.steps, &settings).unwrap();
+    assert!(v.valid, "{v:?}");
+}

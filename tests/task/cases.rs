@@ -746,20 +746,41 @@ fn bad_goals_are_typed_errors() {
 fn bad_robot_starts_and_settings_are_typed_errors() {
     let model = corridor(false);
     let s = settings(0);
-    for (base, why) in [
-        ("[20.0, 20.0, 0.0]", "outside"),
-        ("[1.0, 2.0, 0.0]", "island"),
+    // Inside the island, and off the grid of explicit bounds: bad input.
+    let mut builder = model.to_builder();
+    let mut nav = nav_settings();
+    nav.bounds = Some(kinscene::scene::nav::GridBounds {
+        min: nalgebra::Point2::new(-0.5, -0.5),
+        max: nalgebra::Point2::new(5.0, 5.5),
+    });
+    builder.nav_settings(nav);
+    let bounded = builder.build().unwrap();
+    for (model, base, why) in [
+        (&bounded, "[20.0, 20.0, 0.0]", "outside explicit bounds"),
+        (&model, "[1.0, 2.0, 0.0]", "island"),
     ] {
         let p = problem(
-            &model,
+            model,
             &format!("[goal]\na_door_hinge = 1.0\n[robot]\nbase = {base}"),
         );
-        let r = plan(&model, &p, &s, &NoRefinement, &Termination::none());
+        let r = plan(model, &p, &s, &NoRefinement, &Termination::none());
         assert!(
             matches!(r, Err(Error::InvalidRobotStart { .. })),
             "{why}: {r:?}"
         );
     }
+    // Off the automatic bounds, outside the walled room: the grid grows to the start, from
+    // which no handle is reachable (the walls close the room), so the verdict is an outcome.
+    let p = problem(
+        &model,
+        "[goal]\na_door_hinge = 1.0\n[robot]\nbase = [20.0, 20.0, 0.0]",
+    );
+    let r = plan(&model, &p, &s, &NoRefinement, &Termination::none()).unwrap();
+    assert!(
+        matches!(r.outcome, Outcome::Infeasible(_)),
+        "{:?}",
+        r.outcome
+    );
     let p = problem(
         &model,
         &format!("[goal]\na_door_hinge = 1.0\n{CORRIDOR_ROBOT}"),

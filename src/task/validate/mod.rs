@@ -170,6 +170,7 @@ pub fn validate(
 ) -> Result<Validation, Error> {
     settings.validate()?;
     problem.start.validate(model)?;
+    let model = &*model.covering(&problem.robot.start_point())?;
     // 1. Every step must fit the model before anything is replayed.
     let mut joints = Vec::with_capacity(steps.len());
     for (i, s) in steps.iter().enumerate() {
