@@ -13,7 +13,7 @@ use super::placement::FreeSpace;
 use super::reconcile::{CUTS, Observation, Reconciliation, reconcile};
 use super::run::Run;
 use super::settings::DiscoverySettings;
-use crate::kinematics::articulation::ArticulationEstimator;
+use crate::articulation::ArticulationEstimator;
 use crate::scene::collision::SweepSettings;
 use crate::scene::{BaseMap, PartId, SceneModel, SceneModelBuilder, State};
 

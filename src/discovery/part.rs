@@ -7,7 +7,7 @@ use super::cloud::{VoxelIndex, connected_to};
 use super::front::{front, grasp_point, part_boxes};
 use super::settings::DiscoverySettings;
 use super::shapes::PlacedShape;
-use crate::kinematics::articulation::{Estimate, JointEstimate, PointCloud};
+use crate::articulation::{Estimate, JointEstimate, PointCloud};
 use crate::scene::{
     Handle, Joint, JointKind, Limits, PartSpec, SceneData, SceneModel, Shape, State,
     forward_kinematics,

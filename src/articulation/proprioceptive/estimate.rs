@@ -13,7 +13,7 @@ use super::ProprioceptiveSettings;
 use super::likelihood::Likelihood;
 use super::model::{Model, circle_through, line_through};
 use super::refine::{refine_circle, refine_line};
-use crate::kinematics::articulation::estimate::{Estimate, Interaction, JointEstimate};
+use crate::articulation::estimate::{Estimate, Interaction, JointEstimate};
 
 /// A fitted model with its score.
 #[derive(Debug, Clone)]
