@@ -47,8 +47,47 @@ struct Fit {
 pub(super) fn estimate(s: &ProprioceptiveSettings, i: &Interaction<'_>) -> Estimate {
     let poses: Vec<Isometry3<f64>> = i.ee_poses.iter().map(|(_, p)| *p).collect();
     let n = poses.len();
+    let positions = match check_motion(s, &poses) {
+        Ok(positions) => positions,
+        Err(reason) => return Estimate::unknown(reason),
+    };
+    let fits = fit_models(s, &poses);
+    let Some(best) = fits.iter().min_by(|a, b| a.bic.total_cmp(&b.bic)) else {
+        return Estimate::unknown("no model hypothesis could be formed (degenerate positions)");
+    };
+    let details = format!("proprioceptive: {}", summary(&fits, n));
+    let inl: Vec<usize> = (0..n).filter(|&k| best.inliers[k]).collect();
+    if inl.len() * 2 < n || inl.len() < 2 {
+        return Estimate {
+            details: details.clone(),
+            ..Estimate::unknown(format!("no model explains the motion ({details})"))
+        };
+    }
+    let score = score(&fits, best, inl.len(), n);
+    if let Some(reason) = too_little_travel(s, &best.model, &positions, &inl) {
+        return Estimate {
+            details,
+            ..Estimate::unknown(reason)
+        };
+    }
+    Estimate {
+        joint: joint(&best.model, &positions, &inl, i.contact_pre),
+        moving: Vec::new(),
+        part_points: Vec::new(),
+        score,
+        details,
+    }
+}
+
+/// Step 3's checks of the input: enough poses, spanning at least `min_motion`. The positions,
+/// or the reason for `Unknown`: which check failed.
+fn check_motion(
+    s: &ProprioceptiveSettings,
+    poses: &[Isometry3<f64>],
+) -> Result<Vec<Point3<f64>>, String> {
+    let n = poses.len();
     if n < s.min_poses {
-        return Estimate::unknown(format!(
+        return Err(format!(
             "too few end-effector poses: {n} (need {})",
             s.min_poses
         ));
@@ -64,49 +103,28 @@ pub(super) fn estimate(s: &ProprioceptiveSettings, i: &Interaction<'_>) -> Estim
         });
     let extent = (hi - lo).norm();
     if extent < s.min_motion {
-        return Estimate::unknown(format!(
+        return Err(format!(
             "too little motion: end-effector positions span {extent:.4} m (need {} m)",
             s.min_motion
         ));
     }
+    Ok(positions)
+}
+
+/// Steps 1 and 2 for both models, the line first, from one generator seeded with `seed`: the
+/// best MLESAC hypothesis, refined, with its BIC and inliers. A model without any hypothesis
+/// (degenerate minimal sets) is left out.
+fn fit_models(s: &ProprioceptiveSettings, poses: &[Isometry3<f64>]) -> Vec<Fit> {
+    let n = poses.len();
     let lik = Likelihood::new(s);
     let mut rng = ChaCha8Rng::seed_from_u64(s.seed);
     let mut fits: Vec<Fit> = Vec::new();
     for circle in [false, true] {
-        let mut best: Option<(Model, f64)> = None;
-        for _ in 0..s.iterations {
-            let k = if circle { 3 } else { 2 };
-            let idx = rand::seq::index::sample(&mut rng, n, k).into_vec();
-            let model = if circle {
-                circle_through(&poses, &idx)
-            } else {
-                line_through(&poses, &idx)
-            };
-            let Some(model) = model else { continue };
-            let (log_l, _) = lik.evaluate(&model, &poses);
-            if best.is_none_or(|(_, b)| log_l > b) {
-                best = Some((model, log_l));
-            }
-        }
-        let Some((mut model, mut log_l)) = best else {
+        let Some(hypothesis) = mlesac(s, &lik, &mut rng, poses, circle) else {
             continue;
         };
-        for _ in 0..3 {
-            let (_, post) = lik.evaluate(&model, &poses);
-            let inl: Vec<usize> = (0..n).filter(|&k| post[k] > 0.5).collect();
-            let refined = if circle {
-                refine_circle(&poses, &inl, s)
-            } else {
-                refine_line(&poses, &inl)
-            };
-            let Some(refined) = refined else { break };
-            let (l, _) = lik.evaluate(&refined, &poses);
-            if l < log_l {
-                break;
-            }
-            (model, log_l) = (refined, l);
-        }
-        let (_, post) = lik.evaluate(&model, &poses);
+        let (model, log_l) = refine(s, &lik, poses, circle, hypothesis);
+        let (_, post) = lik.evaluate(&model, poses);
         let bic = -2.0 * log_l + model.parameters(s.orientation) * (n as f64).ln();
         fits.push(Fit {
             model,
@@ -115,9 +133,67 @@ pub(super) fn estimate(s: &ProprioceptiveSettings, i: &Interaction<'_>) -> Estim
             inliers: post.iter().map(|&q| q > 0.5).collect(),
         });
     }
-    let Some(best) = fits.iter().min_by(|a, b| a.bic.total_cmp(&b.bic)) else {
-        return Estimate::unknown("no model hypothesis could be formed (degenerate positions)");
-    };
+    fits
+}
+
+/// The most likely of `iterations` hypotheses through random minimal sets (2 poses for a line,
+/// 3 for a circle), with its log-likelihood; `None` when no minimal set gave one.
+fn mlesac(
+    s: &ProprioceptiveSettings,
+    lik: &Likelihood,
+    rng: &mut ChaCha8Rng,
+    poses: &[Isometry3<f64>],
+    circle: bool,
+) -> Option<(Model, f64)> {
+    let n = poses.len();
+    let mut best: Option<(Model, f64)> = None;
+    for _ in 0..s.iterations {
+        let k = if circle { 3 } else { 2 };
+        let idx = rand::seq::index::sample(rng, n, k).into_vec();
+        let model = if circle {
+            circle_through(poses, &idx)
+        } else {
+            line_through(poses, &idx)
+        };
+        let Some(model) = model else { continue };
+        let (log_l, _) = lik.evaluate(&model, poses);
+        if best.is_none_or(|(_, b)| log_l > b) {
+            best = Some((model, log_l));
+        }
+    }
+    best
+}
+
+/// Up to three refits of `(model, log_l)` on its inliers (posterior > ½), each kept only while
+/// the likelihood does not drop.
+fn refine(
+    s: &ProprioceptiveSettings,
+    lik: &Likelihood,
+    poses: &[Isometry3<f64>],
+    circle: bool,
+    (mut model, mut log_l): (Model, f64),
+) -> (Model, f64) {
+    let n = poses.len();
+    for _ in 0..3 {
+        let (_, post) = lik.evaluate(&model, poses);
+        let inl: Vec<usize> = (0..n).filter(|&k| post[k] > 0.5).collect();
+        let refined = if circle {
+            refine_circle(poses, &inl, s)
+        } else {
+            refine_line(poses, &inl)
+        };
+        let Some(refined) = refined else { break };
+        let (l, _) = lik.evaluate(&refined, poses);
+        if l < log_l {
+            break;
+        }
+        (model, log_l) = (refined, l);
+    }
+    (model, log_l)
+}
+
+/// The fits for the estimate's details: per model, its log-likelihood, BIC and inlier count.
+fn summary(fits: &[Fit], n: usize) -> String {
     let summary: Vec<String> = fits
         .iter()
         .map(|f| {
@@ -133,40 +209,56 @@ pub(super) fn estimate(s: &ProprioceptiveSettings, i: &Interaction<'_>) -> Estim
             )
         })
         .collect();
-    let details = format!("proprioceptive: {}", summary.join("; "));
-    let inl: Vec<usize> = (0..n).filter(|&k| best.inliers[k]).collect();
-    if inl.len() * 2 < n || inl.len() < 2 {
-        return Estimate {
-            details: details.clone(),
-            ..Estimate::unknown(format!("no model explains the motion ({details})"))
-        };
-    }
+    summary.join("; ")
+}
+
+/// The estimate's score: the winner's inlier fraction (`inliers` of `n`), discounted by how
+/// narrowly it beat the other model on BIC.
+fn score(fits: &[Fit], best: &Fit, inliers: usize, n: usize) -> f64 {
     let margin = fits
         .iter()
         .map(|f| f.bic - best.bic)
         .fold(f64::INFINITY, |a, b| if b > 0.0 { a.min(b) } else { a });
     let margin = if margin.is_finite() { margin } else { 0.0 };
-    let score = inl.len() as f64 / n as f64 / (1.0 + (-margin / 2.0).exp());
+    inliers as f64 / n as f64 / (1.0 + (-margin / 2.0).exp())
+}
+
+/// Step 3's check of the winner: the reason for `Unknown` when its fitted travel from the first
+/// to the last inlier, or the straight distance between them, is below `min_motion`.
+fn too_little_travel(
+    s: &ProprioceptiveSettings,
+    model: &Model,
+    positions: &[Point3<f64>],
+    inl: &[usize],
+) -> Option<String> {
     let (first, last) = (positions[inl[0]], positions[inl[inl.len() - 1]]);
-    let travel = match best.model {
+    let travel = match *model {
         Model::Line { dir, .. } => dir.dot(&(last - first)).abs(),
-        Model::Circle { radius, .. } => radius * swept_angle(&best.model, &positions, &inl).abs(),
+        Model::Circle { radius, .. } => radius * swept_angle(model, positions, inl).abs(),
     };
     // The straight distance too: a circle fitted to noise about one spot can "sweep" any
     // angle (about the approach axis the orientations cannot object), while an exploration
     // pulls the end effector away.
     let chord = (last - first).norm();
-    if travel.min(chord) < s.min_motion {
-        return Estimate {
-            details: details.clone(),
-            ..Estimate::unknown(format!(
-                "too little motion: the fitted joint moves the end effector {travel:.4} m, which \
-                 ends {chord:.4} m from where it began (need {} m of each)",
-                s.min_motion
-            ))
-        };
-    }
-    let joint = match best.model {
+    (travel.min(chord) < s.min_motion).then(|| {
+        format!(
+            "too little motion: the fitted joint moves the end effector {travel:.4} m, which \
+             ends {chord:.4} m from where it began (need {} m of each)",
+            s.min_motion
+        )
+    })
+}
+
+/// The winner's joint, oriented so that it moved forwards from the first to the last inlier;
+/// a revolute joint's pivot is the point of its axis level with the contact `contact_pre`.
+fn joint(
+    model: &Model,
+    positions: &[Point3<f64>],
+    inl: &[usize],
+    contact_pre: Point3<f64>,
+) -> JointEstimate {
+    let (first, last) = (positions[inl[0]], positions[inl[inl.len() - 1]]);
+    match *model {
         Model::Line { dir, .. } => {
             let d = dir.dot(&(last - first));
             let axis = if d < 0.0 { -dir } else { dir };
@@ -176,22 +268,15 @@ pub(super) fn estimate(s: &ProprioceptiveSettings, i: &Interaction<'_>) -> Estim
             }
         }
         Model::Circle { center, normal, .. } => {
-            let angle = swept_angle(&best.model, &positions, &inl);
+            let angle = swept_angle(model, positions, inl);
             let axis = if angle < 0.0 { -normal } else { normal };
-            let pivot = center + axis.into_inner() * axis.dot(&(i.contact_pre - center));
+            let pivot = center + axis.into_inner() * axis.dot(&(contact_pre - center));
             JointEstimate::Revolute {
                 axis,
                 pivot,
                 angle: angle.abs(),
             }
         }
-    };
-    Estimate {
-        joint,
-        moving: Vec::new(),
-        part_points: Vec::new(),
-        score,
-        details,
     }
 }
 
