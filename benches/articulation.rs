@@ -4,10 +4,8 @@
 //! `cargo bench --bench articulation -- --warm-up-time 1 --measurement-time 2`
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use kinscene::kinematics::articulation::synthetic::{
-    DepthCamera, DepthNoise, SyntheticBox, render,
-};
-use kinscene::kinematics::articulation::{
+use kinscene::articulation::synthetic::{DepthCamera, DepthNoise, SyntheticBox, render};
+use kinscene::articulation::{
     ArticulationEstimator, Interaction, Proprioceptive, Screw, TwoView, TwoViewSettings,
 };
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};

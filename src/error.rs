@@ -5,7 +5,8 @@
 //! OMPL; IK and the robot model wrap Pinocchio; the task layer wraps the scene) hands it to
 //! the lower layer's variant when it becomes a [`Error`]. An IK error is always
 //! `Error::Kinematics(kinematics::Error::Ik(_))`, an OMPL exception always
-//! `Error::Motion(motion::Error::Ompl(_))`.
+//! `Error::Motion(motion::Error::Ompl(_))`, an estimator's error always `Error::Articulation(_)`
+//! (or, raised during discovery, inside the discovery error that names the handle).
 //!
 //! `Err` is for bad input and broken backends only. "No plan exists", "IK did not converge",
 //! "the time budget ran out" are outcomes inside `Ok` (see each layer's status types).
@@ -20,9 +21,13 @@ pub enum Error {
     /// Task-level sequencing: goals, settings, plan documents.
     #[error("task: {0}")]
     Task(crate::task::Error),
-    /// Robot kinematics and IK (Pinocchio), articulation estimation.
+    /// Robot kinematics and IK (Pinocchio).
+    #[cfg(feature = "pinocchio")]
     #[error("kinematics: {0}")]
     Kinematics(crate::kinematics::Error),
+    /// Articulation estimation: bad observations or settings (always available; pure Rust).
+    #[error("articulation: {0}")]
+    Articulation(#[from] crate::articulation::ArticulationError),
     /// Base and arm motion planning and optimisation (OMPL, CasADi/IPOPT).
     #[cfg(any(feature = "ompl", feature = "casadi"))]
     #[error("motion: {0}")]
@@ -79,21 +84,14 @@ impl From<crate::task::Error> for Error {
     }
 }
 
+#[cfg(feature = "pinocchio")]
 impl From<crate::kinematics::Error> for Error {
     fn from(e: crate::kinematics::Error) -> Self {
         match e {
-            #[cfg(feature = "pinocchio")]
             crate::kinematics::Error::Robot(e) => e.into(),
-            #[cfg(feature = "pinocchio")]
             crate::kinematics::Error::Ik(e) => e.into(),
             e => Error::Kinematics(e),
         }
-    }
-}
-
-impl From<crate::kinematics::articulation::ArticulationError> for Error {
-    fn from(e: crate::kinematics::articulation::ArticulationError) -> Self {
-        Error::Kinematics(crate::kinematics::Error::Articulation(e))
     }
 }
 
@@ -204,10 +202,22 @@ impl From<crate::planner::PlannerError> for Error {
     }
 }
 
-#[cfg(all(test, feature = "ompl", feature = "pinocchio", feature = "casadi"))]
+#[cfg(test)]
 mod tests {
     use super::*;
 
+    #[test]
+    fn an_articulation_error_is_its_own_layer() {
+        use crate::articulation::ArticulationError;
+        let e: Error =
+            ArticulationError::InvalidSetting(InvalidSetting::new("x", 0.0, "> 0")).into();
+        assert!(
+            matches!(e, Error::Articulation(ArticulationError::InvalidSetting(_))),
+            "{e:?}"
+        );
+    }
+
+    #[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
     #[test]
     fn a_lower_layer_error_has_one_place_whatever_layer_it_passed() {
         use crate::kinematics::ik::IkError;

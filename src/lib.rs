@@ -1,6 +1,7 @@
 #![doc = include_str!("../README.md")]
 #![warn(missing_docs)]
 
+pub mod articulation;
 pub mod control;
 pub mod discovery;
 pub mod error;
@@ -10,6 +11,7 @@ pub mod task;
 pub use control::{Outcome, Termination};
 pub use error::{Error, InvalidSetting};
 
+#[cfg(feature = "pinocchio")]
 pub mod kinematics;
 #[cfg(any(feature = "ompl", feature = "casadi"))]
 pub mod motion;

@@ -1,5 +1,6 @@
 //! Integration tests, compiled as one binary.
 
+mod articulation;
 mod backends;
 mod discovery;
 #[cfg(feature = "pinocchio")]

@@ -13,7 +13,7 @@ use super::placement::FreeSpace;
 use super::reconcile::{CUTS, Observation, Reconciliation, reconcile};
 use super::run::Run;
 use super::settings::DiscoverySettings;
-use crate::kinematics::articulation::ArticulationEstimator;
+use crate::articulation::ArticulationEstimator;
 use crate::scene::collision::SweepSettings;
 use crate::scene::{BaseMap, PartId, SceneModel, SceneModelBuilder, State};
 
@@ -163,18 +163,7 @@ pub fn discover(
     settings: &DiscoverySettings,
 ) -> Result<Discovery, DiscoveryError> {
     settings.validate()?;
-    for (index, h) in handles.iter().enumerate() {
-        check_finite(h.position.coords.iter().copied(), || {
-            format!("position of handle {index}")
-        })?;
-        let a = h
-            .attachment
-            .as_ref()
-            .ok_or(DiscoveryError::UnregisteredHandle { index })?;
-        check_finite(a.normal.iter().copied(), || {
-            format!("normal of handle {index}")
-        })?;
-    }
+    check_handles(handles)?;
     let mut builder = SceneModelBuilder {
         base: base.clone(),
         parts: Vec::new(),
@@ -207,34 +196,8 @@ pub fn discover(
                     tried.push((values.clone(), joint.clone(), part.value));
                     let newest = m.part_id(&name).ok();
                     let (cut, rec) = reconciled(&m, &tried, &settings.sweep, newest)?;
-                    let what = |k: usize| match k {
-                        0 => "the closed scene the mapping saw".to_string(),
-                        k => format!("the opening of {} it executed", tried[k - 1].1),
-                    };
-                    for c in &rec.cuts {
-                        entry.notes.push(format!(
-                            "box {} of {} cut back by {} m on its {}{} face, clear of {} \
-                                 in {}",
-                            c.collider,
-                            c.part,
-                            c.depth,
-                            if c.side > 0.0 { "+" } else { "-" },
-                            ["x", "y", "z"][c.axis],
-                            c.other,
-                            what(c.observation)
-                        ));
-                    }
+                    note_reconciliation(&mut entry.notes, &rec, &tried);
                     reconciliation.cuts.extend(rec.cuts);
-                    for c in &rec.unresolved {
-                        entry.notes.push(format!(
-                            "{} and {} still collide in {} with the boxes cut back by up \
-                                 to {} m (kept: the estimate is off there)",
-                            c.a,
-                            c.b,
-                            what(c.observation),
-                            CUTS[CUTS.len() - 1]
-                        ));
-                    }
                     reconciliation.unresolved.extend(rec.unresolved);
                     model = cut;
                     builder = model.to_builder();
@@ -275,6 +238,55 @@ pub fn discover(
 
 /// An executed opening: the other joints' values then, the joint's name, its opening.
 type Opening = (BTreeMap<String, f64>, String, f64);
+
+/// The input checks of [`discover`]: every handle finite and registered to the base map.
+fn check_handles(handles: &[MappedHandle]) -> Result<(), DiscoveryError> {
+    for (index, h) in handles.iter().enumerate() {
+        check_finite(h.position.coords.iter().copied(), || {
+            format!("position of handle {index}")
+        })?;
+        let a = h
+            .attachment
+            .as_ref()
+            .ok_or(DiscoveryError::UnregisteredHandle { index })?;
+        check_finite(a.normal.iter().copied(), || {
+            format!("normal of handle {index}")
+        })?;
+    }
+    Ok(())
+}
+
+/// Step 8's notes for the handle's log: each cut of `rec`, then each conflict left, naming the
+/// observation it was made for (0 the closed scene, `k` the opening `tried[k - 1]`).
+fn note_reconciliation(notes: &mut Vec<String>, rec: &Reconciliation, tried: &[Opening]) {
+    let what = |k: usize| match k {
+        0 => "the closed scene the mapping saw".to_string(),
+        k => format!("the opening of {} it executed", tried[k - 1].1),
+    };
+    for c in &rec.cuts {
+        notes.push(format!(
+            "box {} of {} cut back by {} m on its {}{} face, clear of {} \
+                 in {}",
+            c.collider,
+            c.part,
+            c.depth,
+            if c.side > 0.0 { "+" } else { "-" },
+            ["x", "y", "z"][c.axis],
+            c.other,
+            what(c.observation)
+        ));
+    }
+    for c in &rec.unresolved {
+        notes.push(format!(
+            "{} and {} still collide in {} with the boxes cut back by up \
+                 to {} m (kept: the estimate is off there)",
+            c.a,
+            c.b,
+            what(c.observation),
+            CUTS[CUTS.len() - 1]
+        ));
+    }
+}
 
 /// `model` reconciled with the closed scene (the mapping saw it) and every opening in
 /// `openings` (each executed without a collision), in that order.

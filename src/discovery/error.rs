@@ -6,7 +6,7 @@
 //! ([`HandleLog`](super::HandleLog)).
 
 use crate::InvalidSetting;
-use crate::kinematics::articulation::ArticulationError;
+use crate::articulation::ArticulationError;
 
 /// Errors of the discovery layer. Every variant names the offending input.
 #[non_exhaustive]

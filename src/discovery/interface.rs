@@ -8,7 +8,7 @@
 use nalgebra::{Isometry2, Isometry3, Point2, Point3, Unit, Vector3};
 use serde::{Deserialize, Serialize};
 
-pub use crate::kinematics::articulation::PointCloud;
+pub use crate::articulation::PointCloud;
 
 /// Which camera an observation comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]

@@ -6,7 +6,7 @@ use nalgebra::{Isometry2, Point3, Vector3};
 use serde::{Deserialize, Serialize};
 
 use super::interface::HardwareFailure;
-use crate::kinematics::articulation::{Estimate, JointEstimate};
+use crate::articulation::{Estimate, JointEstimate};
 
 /// The stages a handle passes through, in order. A failure is attributed to the stage it
 /// happened in.

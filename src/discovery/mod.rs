@@ -25,7 +25,7 @@
 //!    LocalNavTo, the pre-interaction observation, the exploratory loop (GetComplianceAction,
 //!    DetectFailure, Reposition), the post-interaction observation from a step back,
 //!    PredArticulation through an
-//!    [`ArticulationEstimator`](crate::kinematics::articulation::ArticulationEstimator), and
+//!    [`ArticulationEstimator`](crate::articulation::ArticulationEstimator), and
 //!    registration of the part and joint into the scene model (nested on an earlier part
 //!    when the handle lies on it). The rules are documented on [`discover`].
 //! 3. **The log** ([`HandleLog`]): per handle the stage reached and the failure category —
@@ -34,7 +34,7 @@
 //!
 //! `Err` ([`DiscoveryError`]) is for bad input and broken contracts; hardware failures, lost
 //! handles and unknown estimates are outcomes in the log. Pure Rust; imports point down to
-//! [`crate::kinematics::articulation`] and [`crate::scene`].
+//! [`crate::articulation`] and [`crate::scene`].
 //!
 //! # Example
 //! Mapping: two views of one handle and a stray weak detection, registered against a cabinet.

@@ -8,7 +8,7 @@ use super::error::DiscoveryError;
 use super::interface::PointCloud;
 use super::log::{AttemptLog, EstimateLog, HandleLog, MotionClass, Stage};
 use super::run::{Pulled, Run, Stop, fail};
-use crate::kinematics::articulation::{Estimate, Interaction, JointEstimate};
+use crate::articulation::{Estimate, Interaction, JointEstimate};
 use crate::scene::{JointAxis, JointKind};
 
 impl Run<'_> {

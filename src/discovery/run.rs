@@ -12,7 +12,7 @@ use super::log::{AttemptEnd, AttemptLog, Exploration, HandleLog, MotionClass, St
 use super::part::{NewPart, Observed, new_part};
 use super::placement::{FreeSpace, horizontal, plan_base, shifted};
 use super::settings::DiscoverySettings;
-use crate::kinematics::articulation::ArticulationEstimator;
+use crate::articulation::ArticulationEstimator;
 use crate::scene::{SceneModel, State};
 
 /// A refined normal more than this far (rad) from the registered one is not trusted: 45°.

@@ -4,13 +4,13 @@
 
 use std::f64::consts::FRAC_PI_2;
 
+use kinscene::articulation::{
+    ArticulationEstimator, Proprioceptive, TwoView, axis_angle_error, axis_position_error,
+};
 use kinscene::discovery::{
     AttemptEnd, Discovery, DiscoveryError, DiscoverySettings, Exploration, FusionSettings,
     HardwareFailure, MappedHandle, MotionClass, Perception, RegistrationSettings, Stage, discover,
     fuse_detections, register_handles,
-};
-use kinscene::kinematics::articulation::{
-    ArticulationEstimator, Proprioceptive, TwoView, axis_angle_error, axis_position_error,
 };
 use kinscene::scene::{JointKind, SceneModel, Shape, urdf};
 use nalgebra::{Isometry2, Point3, Vector2, Vector3};

@@ -1,6 +1,5 @@
 //! Kinematics layer: the robot model and inverse kinematics.
 
-mod articulation;
 mod ik;
 mod robot;
 mod third_party;

@@ -2,8 +2,8 @@
 
 use std::path::PathBuf;
 
+use kinscene::articulation::{ArticulationEstimator, Proprioceptive, TwoView};
 use kinscene::discovery::DiscoverySettings;
-use kinscene::kinematics::articulation::{ArticulationEstimator, Proprioceptive, TwoView};
 use serde::{Deserialize, Serialize};
 
 use super::{PipelineError, sim};

@@ -6,10 +6,10 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
+use kinscene::articulation::ArticulationEstimator;
 use kinscene::discovery::{
     Discovery, DiscoverySettings, Exploration, MappedHandle, Stage, discover,
 };
-use kinscene::kinematics::articulation::ArticulationEstimator;
 use kinscene::scene::{BaseMap, JointKind, SceneModel};
 use kinscene::task::{
     self, GoalSpec, NoRefinement, Outcome, Problem, Strategy, TaskSettings, Termination, validate,

@@ -1,10 +1,10 @@
 //! Matching the estimated model's parts to the true parts (by handle position at the zero
 //! state) and the articulation errors of each match (DiTH metrics, paper Table II).
 
+use kinscene::articulation::{axis_angle_error, axis_position_error};
 #[cfg(doc)]
 use kinscene::discovery::DiscoverySettings;
 use kinscene::discovery::{Discovery, Exploration};
-use kinscene::kinematics::articulation::{axis_angle_error, axis_position_error};
 use kinscene::scene::{
     JointKind, Parent, SceneData, SceneModel, forward_kinematics, joint_axis, world_from_handle,
 };

@@ -1,7 +1,7 @@
 //! The settings of the two-view estimator, with their ranges.
 
 use crate::InvalidSetting;
-use crate::kinematics::articulation::error::ArticulationError;
+use crate::articulation::error::ArticulationError;
 
 /// Settings of [`TwoView`](super::TwoView). Lengths in metres.
 #[derive(Debug, Clone, PartialEq)]
@@ -16,7 +16,7 @@ pub struct TwoViewSettings {
     /// Changed points within this distance of a contact seed their region.
     pub seed_radius: f64,
     /// Fewer segmented points than this gives
-    /// [`Unknown`](crate::kinematics::articulation::JointEstimate::Unknown).
+    /// [`Unknown`](crate::articulation::JointEstimate::Unknown).
     pub min_part_points: usize,
     /// A fitted motion that moves no part point farther than this gives `Unknown`.
     pub min_motion: f64,

@@ -9,8 +9,8 @@ use nalgebra::{
 use super::estimate::estimate;
 use super::model::{Model, basis, position};
 use super::{OrientationModel, ProprioceptiveSettings};
-use crate::kinematics::articulation::cloud::centroid;
-use crate::kinematics::articulation::pose_circle::{self, PoseCircle};
+use crate::articulation::cloud::centroid;
+use crate::articulation::pose_circle::{self, PoseCircle};
 
 /// The principal-axis line of the inlier positions, grasp = mean inlier orientation.
 pub(super) fn refine_line(poses: &[Isometry3<f64>], inl: &[usize]) -> Option<Model> {

@@ -6,7 +6,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 #[cfg(doc)]
 use super::Proprioceptive;
 use crate::InvalidSetting;
-use crate::kinematics::articulation::error::ArticulationError;
+use crate::articulation::error::ArticulationError;
 
 /// Settings of [`Proprioceptive`]. Lengths in metres, angles in radians.
 #[derive(Debug, Clone, PartialEq)]
@@ -24,7 +24,7 @@ pub struct ProprioceptiveSettings {
     pub iterations: usize,
     /// Seed of the hypothesis sampler.
     pub seed: u64,
-    /// Fewer poses than this gives [`Unknown`](crate::kinematics::articulation::JointEstimate::Unknown).
+    /// Fewer poses than this gives [`Unknown`](crate::articulation::JointEstimate::Unknown).
     pub min_poses: usize,
     /// Positions spanning less than this give `Unknown`.
     pub min_motion: f64,

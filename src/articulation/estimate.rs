@@ -183,7 +183,7 @@ impl Estimate {
 /// A user-side estimator (here a stand-in that reads the axis from the contact displacement; a
 /// network would run inference instead):
 /// ```
-/// use kinscene::kinematics::articulation::{
+/// use kinscene::articulation::{
 ///     ArticulationError, ArticulationEstimator, Estimate, Interaction, JointEstimate,
 /// };
 /// use nalgebra::Unit;

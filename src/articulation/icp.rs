@@ -238,7 +238,7 @@ const POINT_TO_POINT_WEIGHT: f64 = 0.05;
 /// kept pairs): between the point-to-point weight (then, along directions no surface
 /// constrains, the one-sided sampling of a part edge biases the result by centimetres) and the
 /// full pair weight (then the contact's noise does). Chosen on the synthetic scenarios of
-/// `tests/kinematics/articulation.rs` and the discovery test world (see the error table there).
+/// `tests/articulation/` and the discovery test world (see the error table there).
 const CONTACT_REFERENCE_WEIGHT: f64 = 0.25;
 
 /// A translation-only registration by point-to-plane ICP: each step pairs every moved source

@@ -6,7 +6,7 @@ use std::collections::HashSet;
 use nalgebra::Point3;
 
 use super::TwoViewSettings;
-use crate::kinematics::articulation::kdtree::KdTree;
+use crate::articulation::kdtree::KdTree;
 
 /// The two clouds, their k-d trees and the change between them.
 pub(super) struct Changes<'a> {

@@ -17,6 +17,10 @@
 //! [`metrics`] holds the DiTH error metrics; [`synthetic`] renders depth observations of box
 //! scenes for tests, benchmarks and simulation. Pure Rust; imports only point down to the scene
 //! layer.
+//!
+//! The layer is about the scene's parts, not the robot: it sits beside `crate::kinematics`
+//! (the robot model and IK, which need Pinocchio) and shares nothing with it; an end-effector
+//! pose is just an [`Isometry3`](nalgebra::Isometry3) here. [`crate::discovery`] is its user.
 
 mod cloud;
 mod error;

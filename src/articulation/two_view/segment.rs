@@ -5,10 +5,10 @@ use nalgebra::Isometry3;
 use super::TwoViewSettings;
 use super::change::{Changes, grow};
 use super::fit::Selection;
-use crate::kinematics::articulation::estimate::Interaction;
-use crate::kinematics::articulation::icp::Registration;
-use crate::kinematics::articulation::screw::Screw;
-use crate::kinematics::articulation::visibility::RangeImage;
+use crate::articulation::estimate::Interaction;
+use crate::articulation::icp::Registration;
+use crate::articulation::screw::Screw;
+use crate::articulation::visibility::RangeImage;
 
 /// Step 6: the moving pre points, grown from the seed `seeds_pre` over the pre points that the
 /// fitted `motion` explains better than the static hypothesis (or as well, near the hinge),

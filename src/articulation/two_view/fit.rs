@@ -8,13 +8,13 @@ use nalgebra::{Isometry3, Matrix3, Point3, Translation3, Unit, UnitQuaternion, V
 
 use super::TwoViewSettings;
 use super::change::{Changes, median, voxel_subset};
-use crate::kinematics::articulation::cloud::centroid;
-use crate::kinematics::articulation::estimate::{Interaction, JointEstimate};
-use crate::kinematics::articulation::icp::{
+use crate::articulation::cloud::centroid;
+use crate::articulation::estimate::{Interaction, JointEstimate};
+use crate::articulation::icp::{
     IcpSettings, MotionModel, NormalCache, Registration, icp, refine_translation, truncated_cost,
 };
-use crate::kinematics::articulation::kdtree::KdTree;
-use crate::kinematics::articulation::screw::Screw;
+use crate::articulation::kdtree::KdTree;
+use crate::articulation::screw::Screw;
 
 /// ICP of the part's points onto the whole post cloud, with the contact pair weighted in.
 pub(super) struct Fitter<'a> {

@@ -16,7 +16,7 @@ const PARALLEL_SIN: f64 = 1e-9;
 ///
 /// # Example
 /// ```
-/// use kinscene::kinematics::articulation::axis_angle_error;
+/// use kinscene::articulation::axis_angle_error;
 /// use nalgebra::Vector3;
 /// assert_eq!(axis_angle_error(&Vector3::z(), &-Vector3::z()), 0.0);
 /// assert!((axis_angle_error(&Vector3::x(), &Vector3::y()) - 90.0).abs() < 1e-12);
@@ -38,7 +38,7 @@ pub fn axis_angle_error(estimated: &Vector3<f64>, truth: &Vector3<f64>) -> f64 {
 ///
 /// # Example
 /// ```
-/// use kinscene::kinematics::articulation::axis_position_error;
+/// use kinscene::articulation::axis_position_error;
 /// use nalgebra::{Point3, Vector3};
 /// // The x axis and the line {z = 2} along y are skew, 2 m apart.
 /// let d = axis_position_error(&Point3::origin(), &Vector3::x(), &Point3::new(5.0, 0.0, 2.0), &Vector3::y());
@@ -71,7 +71,7 @@ pub fn axis_position_error(
 ///
 /// # Example
 /// ```
-/// use kinscene::kinematics::articulation::{joint_type_accuracy, JointKindEstimate::*};
+/// use kinscene::articulation::{joint_type_accuracy, JointKindEstimate::*};
 /// let acc = joint_type_accuracy([(Revolute, Revolute), (Unknown, Prismatic)]);
 /// assert_eq!(acc, Some(0.5));
 /// ```

@@ -1,0 +1,169 @@
+//! Proprioceptive model fitting on plain arcs and lines.
+
+use super::*;
+
+fn arc_poses(
+    axis: Unit<Vector3<f64>>,
+    pivot: Point3<f64>,
+    radius_dir: Vector3<f64>,
+    angle: f64,
+    n: usize,
+    sigma: f64,
+    seed: u64,
+) -> Vec<(f64, Isometry3<f64>)> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let start = Isometry3::from_parts(
+        Translation3::from(pivot.coords + radius_dir),
+        UnitQuaternion::identity(),
+    );
+    (0..n)
+        .map(|k| {
+            let m = Screw {
+                axis,
+                point: pivot,
+                angle: angle * k as f64 / (n - 1) as f64,
+                translation: 0.0,
+            }
+            .to_isometry();
+            let mut p = m * start;
+            p.translation.vector += Vector3::new(
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+            ) * sigma;
+            (k as f64 * 0.1, p)
+        })
+        .collect()
+}
+
+/// An arc of a tilted axis with uniform ±5 mm noise (positions and orientations from the
+/// rotation) gives a revolute joint with the arc's axis, centre and angle; positions alone
+/// (orientation off) too.
+#[test]
+fn proprioceptive_arc_and_line() {
+    let axis = Unit::new_normalize(Vector3::new(0.2, -0.1, 1.0));
+    let pivot = Point3::new(1.0, 2.0, 0.5);
+    let radial = axis.cross(&Vector3::x()).normalize() * 0.45;
+    let poses = arc_poses(axis, pivot, radial, 1.0, 25, 0.005, 11);
+    for orientation in [
+        OrientationModel::Rigid,
+        OrientationModel::ApproachAxis,
+        OrientationModel::Ignored,
+    ] {
+        let e = proprio(orientation)
+            .estimate(&proprio_only(&poses))
+            .unwrap();
+        let JointEstimate::Revolute {
+            axis: a,
+            pivot: q,
+            angle,
+        } = e.joint
+        else {
+            panic!("{e:?}")
+        };
+        let tol = if orientation == OrientationModel::Ignored {
+            4.0
+        } else {
+            2.0
+        };
+        assert!(axis_angle_error(&a, &axis) < tol, "{orientation:?} {e:?}");
+        assert!(axis_position_error(&q, &a, &pivot, &axis) < 0.02, "{e:?}");
+        assert!((angle - 1.0).abs() < 0.05, "{e:?}");
+        assert!(
+            a.dot(&axis) > 0.0,
+            "the sweep is right-handed about the true axis"
+        );
+    }
+    // A straight pull with a fixed orientation.
+    let dir = Unit::new_normalize(Vector3::new(1.0, -2.0, 0.3));
+    let line = arc_poses(
+        Vector3::z_axis(),
+        Point3::origin(),
+        Vector3::x(),
+        0.0,
+        20,
+        0.005,
+        5,
+    )
+    .into_iter()
+    .enumerate()
+    .map(|(k, (t, mut p))| {
+        p.translation.vector += dir.into_inner() * 0.01 * k as f64;
+        (t, p)
+    })
+    .collect::<Vec<_>>();
+    let e = Proprioceptive::default()
+        .estimate(&proprio_only(&line))
+        .unwrap();
+    let JointEstimate::Prismatic { axis: a, distance } = e.joint else {
+        panic!("{e:?}")
+    };
+    assert!(axis_angle_error(&a, &dir) < 2.0, "{e:?}");
+    assert!(a.dot(&dir) > 0.0);
+    assert!((distance - 0.19).abs() < 0.01, "{e:?}");
+}
+
+/// A compliant grasp on a door: the approach (tool z) stays normal to the front, up to a
+/// 1° tilt, while the wrist rolls about it at random (±20°) and the tool sits 2 mm off the grasp
+/// point (uniform per axis). The approach-axis model recovers the hinge generated here to
+/// within 1° and 1 cm; the rigid model, which reads the roll as the part turning, is off by more
+/// than the approach model and, here, by more than 2°.
+#[test]
+fn proprioceptive_compliant_grasp_needs_only_the_approach_axis() {
+    let axis = Unit::new_normalize(Vector3::new(0.03, -0.02, 1.0));
+    let pivot = Point3::new(1.0, 2.0, 0.5);
+    let radial = axis.cross(&Vector3::x()).normalize() * 0.4;
+    // The front's normal at the handle, the approach: perpendicular to the axis and the radius.
+    let approach = axis.cross(&radial).normalize();
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let n = 25;
+    let poses: Vec<(f64, Isometry3<f64>)> = (0..n)
+        .map(|k| {
+            let turn = UnitQuaternion::from_axis_angle(&axis, 0.6 * k as f64 / (n - 1) as f64);
+            let z = turn * approach;
+            let tilt = Vector3::new(
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+            );
+            let tilted = UnitQuaternion::from_scaled_axis(tilt.cross(&z) * 1f64.to_radians()) * z;
+            let roll = rng.random_range(-20.0f64..20.0).to_radians();
+            let onto = UnitQuaternion::rotation_between(&Vector3::z(), &tilted).unwrap();
+            let rotation =
+                UnitQuaternion::from_axis_angle(&Unit::new_normalize(tilted), roll) * onto;
+            let noise = Vector3::new(
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+            ) * 0.002;
+            let p = pivot + turn * radial + noise;
+            (
+                k as f64 * 0.1,
+                Isometry3::from_parts(p.coords.into(), rotation),
+            )
+        })
+        .collect();
+    let error = |orientation| {
+        let e = proprio(orientation)
+            .estimate(&proprio_only(&poses))
+            .unwrap();
+        let JointEstimate::Revolute {
+            axis: a, pivot: q, ..
+        } = e.joint
+        else {
+            panic!("{orientation:?}: {e:?}")
+        };
+        (
+            axis_angle_error(&a, &axis),
+            axis_position_error(&q, &a, &pivot, &axis),
+        )
+    };
+    let (approach_angle, approach_position) = error(OrientationModel::ApproachAxis);
+    let (rigid_angle, _) = error(OrientationModel::Rigid);
+    assert!(approach_angle < 1.0, "{approach_angle}°");
+    assert!(approach_position < 0.01, "{approach_position} m");
+    assert!(
+        rigid_angle > 2.0 && rigid_angle > approach_angle,
+        "rigid {rigid_angle}° vs approach {approach_angle}°"
+    );
+}
