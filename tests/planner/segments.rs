@@ -196,6 +196,16 @@ fn segments_that_do_not_chain_are_reported() {
 }
 
 #[test]
+fn the_same_input_gives_the_same_segments() {
+    // Everything the segments depend on is seeded (the placement's sampler, the IK's restarts,
+    // OMPL) or ended by iteration counts, as for the unsegmented door of `mod.rs`: a second
+    // run gives the same plan, segment ends, base poses, paths and timing included.
+    let (_, _, first) = segmented();
+    let (_, second, _) = plan_with(PlannerSettings::default().max_segments);
+    assert_eq!(solved(first), solved(&second), "two runs of the same input differ");
+}
+
+#[test]
 fn with_one_segment_the_wide_door_fails_on_the_placement() {
     // `max_segments = 1`: every step from one base pose, as the paper's manipulation planner.
     // The one move is vetoed by the placement (module docs: no base pose covers it), and the

@@ -136,6 +136,9 @@ impl Segments<'_, '_> {
         }
         match self.split(&r, base)? {
             Ok(next) => Ok(Ok(next)),
+            Err(_) if ctx.termination.should_stop() => Ok(Err(
+                r.fail(Check::Stopped, "while choosing where to regrasp".into())
+            )),
             Err(split) => {
                 let reason = format!("{why}; segmenting: {split}");
                 Ok(Err(self.placement_failure(&r, reason)))
