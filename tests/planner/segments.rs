@@ -204,7 +204,11 @@ fn the_same_input_gives_the_same_segments() {
     // run gives the same plan, segment ends, base poses, paths and timing included.
     let (_, _, first) = segmented();
     let (_, second, _) = plan_with(PlannerSettings::default().max_segments);
-    assert_eq!(solved(first), solved(&second), "two runs of the same input differ");
+    assert_eq!(
+        solved(first),
+        solved(&second),
+        "two runs of the same input differ"
+    );
 }
 
 #[test]
