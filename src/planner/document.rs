@@ -8,8 +8,10 @@
 //!   "robot": "kinova_gen3_mobile",
 //!   "duration": 41.2,                 // total execution time (s), steps one after another
 //!   "task_plans": 2,                  // task orders proposed before one refined
-//!   "motion": [                       // solved: one entry per step, same order as "steps"
+//!   "motion": [                       // solved: one entry per step (per segment of a
+//!                                     // segmented step), same order as "steps"
 //!     { "joint": "dishwasher_door_hinge", "from": 0.0, "to": 1.2,
+//!       "segment": 0, "segments": 1,  // this entry is segment 0 of 1 of its step
 //!       "handle": "dishwasher_door_handle",
 //!       "base": [1.7, 1.9, -1.57],    // base pose of the manipulation: x (m), y (m), yaw (rad)
 //!       "timing": { "base": 6.1, "approach": 2.3, "manipulation": 4.0, "retreat": 2.2 },  // s
@@ -23,16 +25,24 @@
 //!   "vetoes": [                        // moves the motion layer rejected, in the order found
 //!     { "step": 0, "joint": "...", "from": 0.0, "to": 1.2,
 //!       "check": "placement" | "base_path" | "approach" | "manipulation" | "retreat" | "stopped",
-//!       "reason": "..." }
+//!       "reason": "...",
+//!       "segment": { "index": 1, "from": 0.6, "to": 1.2 } }  // only when a segment failed
 //!   ]
 //! }
 //! ```
+//! **Segments.** A step that no single base pose covers is executed in segments
+//! ([`MotionPlan::segments`](super::MotionPlan::segments)): its entries in `"motion"` follow
+//! each other, numbered `"segment"` 0 to `"segments"` − 1, each with its own `"from"` and
+//! `"to"` (the first from the step's `"from"`, each next from the previous `"to"`, the last to
+//! the step's `"to"`), base pose, paths and timing; each base path starts where the previous
+//! entry's base pose is. An entry with `"segment": 0` begins the next step of `"steps"`.
+//! Documents without these two fields read as one segment per step.
 //! `times` are the waypoints' times (s) from the start of the phase under the time
 //! parameterisation ([`crate::motion::timing`]); positions between them follow its profile.
 
 use serde::{Deserialize, Serialize};
 
-use super::{MotionOutcome, PlannerResult, StepFailure, StepMotion, StepTiming};
+use super::{MotionOutcome, MotionPlan, PlannerResult, StepFailure, StepMotion, StepTiming};
 use crate::motion::timing::TimedPath;
 use crate::task::{Outcome, PlanFile, PlanResult, PlanStatus};
 
@@ -59,10 +69,16 @@ impl From<&TimedPath> for PathDocument {
 pub struct StepDocument {
     /// The joint moved.
     pub joint: String,
-    /// Its value before (rad or m).
+    /// Its value before (rad or m); of the segment in a segmented step.
     pub from: f64,
-    /// Its value after (rad or m).
+    /// Its value after (rad or m); of the segment in a segmented step.
     pub to: f64,
+    /// The index of this segment in its step (0 for an unsegmented step).
+    #[serde(default)]
+    pub segment: usize,
+    /// The number of segments of its step, >= 1 (1: unsegmented).
+    #[serde(default = "one")]
+    pub segments: usize,
     /// The handle grasped.
     pub handle: String,
     /// Base pose of the manipulation: x (m), y (m), yaw (rad).
@@ -85,12 +101,19 @@ pub struct StepDocument {
     pub postgrasp: usize,
 }
 
+fn one() -> usize {
+    1
+}
+
 impl From<&StepMotion> for StepDocument {
+    /// The entry of an unsegmented step (`segment` 0 of 1).
     fn from(s: &StepMotion) -> Self {
         StepDocument {
             joint: s.joint.clone(),
             from: s.from,
             to: s.to,
+            segment: 0,
+            segments: 1,
             handle: s.handle.clone(),
             base: s.base,
             timing: s.timing,
@@ -102,6 +125,20 @@ impl From<&StepMotion> for StepDocument {
             postgrasp: s.postgrasp,
         }
     }
+}
+
+/// The entries of a solved plan, numbered within their steps (each entry counts as a step of
+/// its own if the plan's entries do not chain, see [`MotionPlan::segments`]).
+fn step_documents(plan: &MotionPlan) -> Vec<StepDocument> {
+    let mut out: Vec<StepDocument> = plan.steps.iter().map(StepDocument::from).collect();
+    for range in plan.segments().unwrap_or_default() {
+        let n = range.len();
+        for (k, doc) in out[range].iter_mut().enumerate() {
+            doc.segment = k;
+            doc.segments = n;
+        }
+    }
+    out
 }
 
 /// The plan document with motion (schema in the module docs).
@@ -136,7 +173,7 @@ impl MotionDocument {
                     outcome: Outcome::Solved(p.task.clone()),
                     stats,
                 });
-                let motion = p.steps.iter().map(StepDocument::from).collect();
+                let motion = step_documents(p);
                 (file, motion, Vec::new(), p.duration())
             }
             MotionOutcome::Infeasible(why) => {

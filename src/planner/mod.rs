@@ -10,7 +10,9 @@
 //!    that passes its checks (part collisions, grid paths).
 //! 2. This layer refines the steps **in order**, replaying the robot: arm stowed, base driven to
 //!    the chosen pose, arm to the grasp, the handle trajectory, the arm back to its stowed
-//!    configuration (see [`StepMotion`]).
+//!    configuration (see [`StepMotion`]). A step that no single base pose covers is executed
+//!    in segments, letting go and grasping again from another base pose in between (at most
+//!    [`PlannerSettings::max_segments`]; see [`StepMotion`] and [`MotionPlan::segments`]).
 //! 3. When a step cannot be refined, its move is **vetoed in that state** — the task search is
 //!    given a [`Refiner`](crate::task::Refiner) that answers from the table of vetoes, with the
 //!    blockers unknown, so every joint may move to work around it — and the search runs again.
@@ -22,6 +24,36 @@
 //! the moves that refine (the verdicts of the motion layer themselves are those of sampling-based
 //! planners with a budget: a failure there means "not found", not "impossible").
 //!
+//! # Segments
+//! When no base pose covers a step's whole handle trajectory, the robot regrasps: the step's
+//! interval `[from, to]` is covered by consecutive segments `[θ0, θ1], [θ1, θ2], …`
+//! (`θ0 = from`, the last ending at `to`), each executed as the full sequence of phases (base
+//! path, approach, manipulation, retreat) from a base pose of its own, starting from the state
+//! and the base pose the previous segment left (the part partly moved, the arm stowed). Each
+//! segment is one [`StepMotion`] of [`MotionPlan::steps`]; [`MotionPlan::segments`] says which
+//! entries refine which task step. The ends are chosen from what the placement reports:
+//! 1. the placement of the rest `[θi, to]`, as for an unsegmented step; if it covers every
+//!    waypoint, that is the last segment (so the single placement stays the first choice,
+//!    and a step that one base pose covers is refined exactly as without segments);
+//! 2. otherwise, unless this would be segment [`PlannerSettings::max_segments`] already, the
+//!    placement of the rest again with the objective
+//!    [`LongestPrefix`](crate::motion::placement::PlacementObjective::LongestPrefix) (sampled):
+//!    the base pose from which the arm follows the motion furthest without letting go,
+//!    straight approach included. The last waypoint `e` of the handle trajectory it reaches
+//!    that way (at most the one before the last, and past the first) gives the candidate ends
+//!    `θ(e)`, `θ(e − 1)` and `θ(⌊e/2⌋)` (past the first waypoint, longest first);
+//! 3. for a candidate end, the segment `[θi, θ(e)]` (its own `K` steps, approach and retreat)
+//!    is evaluated at that base pose, and if it does not reach every waypoint there, placed
+//!    anew; the first candidate that is covered, from a base pose where the stowed robot is
+//!    clear (a base path can end there), is the segment.
+//!
+//! Everything is seeded (the sampler, the IK, OMPL), so the segments are the same for the same
+//! input. A step that cannot be covered in `max_segments` segments fails with
+//! [`Check::Placement`] and the segment it stopped at ([`FailedSegment`]); a segment whose
+//! phases fail fails the step with that check. `max_segments = 1` is the paper's manipulation
+//! planner: one base pose per step.
+//!
+//! # Approximations
 //! One approximation: whether the *base path* to a move exists also depends on where the robot
 //! comes from, which is not part of the task state; a base-path failure is nevertheless vetoed
 //! for the state. The task layer's grid path check makes such failures rare.
@@ -42,7 +74,7 @@ pub use outcome::{
 };
 pub use reach::arm_reach;
 pub use settings::PlannerSettings;
-pub use step::{Check, StepFailure, StepMotion, StepTiming};
+pub use step::{Check, FailedSegment, StepFailure, StepMotion, StepTiming};
 
 use std::sync::Mutex;
 use std::time::Instant;
@@ -315,6 +347,7 @@ impl HierarchicalPlanner {
                     to: s.to,
                     check: Check::Stopped,
                     reason: "before the step began".into(),
+                    segment: None,
                 }));
             }
             let joint = model.joint_id(&s.joint)?;
@@ -329,10 +362,12 @@ impl HierarchicalPlanner {
                 termination,
             };
             match step::refine(&ctx, index, &state, joint, s, &robot)? {
-                Ok(motion) => {
-                    robot.base = motion.base;
+                Ok(segments) => {
+                    if let Some(last) = segments.last() {
+                        robot.base = last.base;
+                    }
                     state.set(model, joint, s.to)?;
-                    steps.push(motion);
+                    steps.extend(segments);
                 }
                 Err((failure, _)) if failure.check == Check::Stopped => {
                     return Ok(Refined::Stopped(failure));

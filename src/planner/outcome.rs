@@ -2,6 +2,7 @@
 //! the statistics.
 
 use std::fmt;
+use std::ops::Range;
 
 use super::{StepFailure, StepMotion};
 use crate::task::{Infeasibility, Partial, Plan, SearchStats};
@@ -11,14 +12,47 @@ use crate::task::{Infeasibility, Partial, Plan, SearchStats};
 pub struct MotionPlan {
     /// The order of single-joint changes.
     pub task: Plan,
-    /// The motion of every step, in order (`steps[i]` refines `task.steps[i]`).
+    /// The motion of every step, in order, one entry per segment: a step executed from one
+    /// base pose has one entry, a segmented step one per segment (see [`MotionPlan::segments`]
+    /// for which entries refine which step). Without segmented steps `steps[i]` refines
+    /// `task.steps[i]`.
     pub steps: Vec<StepMotion>,
 }
 
 impl MotionPlan {
-    /// Total execution time (s): base and arm motions of all steps, executed one after another.
+    /// Total execution time (s): base and arm motions of all steps (and segments), executed
+    /// one after another.
     pub fn duration(&self) -> f64 {
         self.steps.iter().map(|s| s.timing.total()).sum()
+    }
+
+    /// Which entries of [`steps`](Self::steps) refine each task step: for `task.steps[i]`, the
+    /// range `segments()[i]` of consecutive entries that move its joint from its `from` to its
+    /// `to`, each starting where the previous ended (`steps[j + 1].from == steps[j].to`), the
+    /// last ending at the task step's `to`. The ranges cover `steps` in order.
+    ///
+    /// `None` when `steps` does not chain like this (a plan the planner returned always does;
+    /// a hand-edited one may not). The values are compared exactly: the planner copies them.
+    pub fn segments(&self) -> Option<Vec<Range<usize>>> {
+        let mut out = Vec::with_capacity(self.task.steps.len());
+        let mut next = 0;
+        for task in &self.task.steps {
+            let start = next;
+            let mut from = task.from;
+            loop {
+                let s = self.steps.get(next)?;
+                if s.joint != task.joint || s.from != from {
+                    return None;
+                }
+                next += 1;
+                if s.to == task.to {
+                    break;
+                }
+                from = s.to;
+            }
+            out.push(start..next);
+        }
+        (next == self.steps.len()).then_some(out)
     }
 }
 

@@ -63,6 +63,13 @@ pub struct PlannerSettings {
     /// tool then leaves the handle path by at most about 2.5 mm, 0.002 times its 1.23 m
     /// reach).
     pub manipulation_blend: f64,
+    /// The largest number of segments one step may be split into, >= 1. When no base pose
+    /// covers a step's whole handle trajectory, the robot lets go, drives to another base pose
+    /// and grasps again: the step is executed as consecutive segments of the joint's interval,
+    /// each a full sequence of phases from a base pose of its own (see
+    /// [`StepMotion`](super::StepMotion)). 1 keeps every step to one base pose (the paper's
+    /// manipulation planner, which fails the step instead). Default 4.
+    pub max_segments: usize,
 }
 
 impl Default for PlannerSettings {
@@ -85,6 +92,7 @@ impl Default for PlannerSettings {
             base_check_resolution: 0.02,
             blend: Some(BlendSettings::default()),
             manipulation_blend: 0.002,
+            max_segments: 4,
         }
     }
 }
@@ -123,6 +131,9 @@ impl PlannerSettings {
         positive("manipulation_blend", self.manipulation_blend)?;
         if let Some(blend) = &self.blend {
             blend.validate()?;
+        }
+        if self.max_segments == 0 {
+            return Err(InvalidSetting::new("max_segments", 0.0, ">= 1").into());
         }
         if !(self.margin.is_finite() && self.margin >= 0.0) {
             return Err(InvalidSetting::new("margin", self.margin, "finite and >= 0").into());

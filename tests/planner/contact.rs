@@ -921,6 +921,14 @@ fn the_drawer_plan_keeps_the_contact_rule() {
 /// the drawer's handle sits on its front's centre); its grasp point is the bar's centre, its
 /// normal outward (-x when closed).
 pub(super) fn counter_with_door() -> SceneModel {
+    counter_with_door_of(0.45, 2.0)
+}
+
+/// [`counter_with_door`]'s counter and door, the door `width` wide (y in
+/// [-width/2, width/2] closed, hinged at y = -width/2, the handle bar's centre 0.04 m from the
+/// free edge) and opening to `upper` rad.
+pub(super) fn counter_with_door_of(width: f64, upper: f64) -> SceneModel {
+    let half = width / 2.0;
     let mut b = SceneModelBuilder::new();
     b.add_base_shape(kinscene::scene::BaseShape::new(
         "counter",
@@ -934,22 +942,22 @@ pub(super) fn counter_with_door() -> SceneModel {
             "door",
             Joint::revolute(
                 "door_hinge",
-                Point3::new(-0.03, -0.225, 0.5),
+                Point3::new(-0.03, -half, 0.5),
                 Vector3::z(),
-                Limits::new(0.0, 2.0),
+                Limits::new(0.0, upper),
             ),
         )
         .with_collider(
-            Shape::box_size(Vector3::new(0.02, 0.45, 0.7)),
-            Isometry3::translation(0.01, 0.225, 0.0),
+            Shape::box_size(Vector3::new(0.02, width, 0.7)),
+            Isometry3::translation(0.01, half, 0.0),
         )
         .with_collider(
             Shape::box_size(Vector3::new(0.035, 0.012, 0.16)),
-            Isometry3::translation(-0.0175, 0.41, 0.0),
+            Isometry3::translation(-0.0175, width - 0.04, 0.0),
         )
         .with_handle(Handle::new(
             "door_handle",
-            Point3::new(-0.0175, 0.41, 0.0),
+            Point3::new(-0.0175, width - 0.04, 0.0),
             -Vector3::x(),
         )),
     );

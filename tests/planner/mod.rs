@@ -2,6 +2,7 @@
 
 mod contact;
 mod reach;
+mod segments;
 
 use std::time::Duration;
 

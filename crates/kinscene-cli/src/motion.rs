@@ -3,7 +3,9 @@
 //!
 //! The document is [`kinscene::planner::MotionDocument`]: the task plan document plus, per
 //! step, the base path, the base pose, the arm paths, the manipulation trajectory and their
-//! timing, and the moves the motion layer vetoed. Exit codes as `plan`.
+//! timing (per segment, numbered within the step, for a step that no single base pose covers;
+//! at most `--max-segments` of them), and the moves the motion layer vetoed. Exit codes as
+//! `plan`.
 
 use std::io::Write;
 use std::path::Path;
@@ -35,7 +37,8 @@ pub struct RobotArgs<'a> {
 }
 
 /// Plans with motion for `robot` (a URDF path, or `gen3`) and writes the document to
-/// `out_path` or `out`.
+/// `out_path` or `out`. `motion_options` are the motion layer's seed and the most segments per
+/// step (`None`: the planner's defaults).
 ///
 /// # Errors
 /// An unreadable or malformed robot URDF, a goal without a robot start pose, a backend
@@ -48,13 +51,21 @@ pub fn run(
     model: &SceneModel,
     problem: &Problem,
     settings: TaskSettings,
-    seed: Option<u64>,
+    motion_options: (Option<u64>, Option<usize>),
     budget: (Duration, &str),
     out_path: Option<&Path>,
     out: &mut dyn Write,
 ) -> Result<Verdict, CliError> {
     imp::run(
-        robot, goal, model, problem, settings, seed, budget, out_path, out,
+        robot,
+        goal,
+        model,
+        problem,
+        settings,
+        motion_options,
+        budget,
+        out_path,
+        out,
     )
 }
 
@@ -76,7 +87,7 @@ mod imp {
         model: &SceneModel,
         problem: &Problem,
         settings: TaskSettings,
-        seed: Option<u64>,
+        (seed, max_segments): (Option<u64>, Option<usize>),
         (budget, budget_text): (Duration, &str),
         out_path: Option<&Path>,
         out: &mut dyn Write,
@@ -139,9 +150,11 @@ mod imp {
         };
         let name = robot_model.name().to_string();
         let planner = HierarchicalPlanner::new(robot_model, {
+            let defaults = PlannerSettings::default();
             let s = PlannerSettings {
                 task: settings,
-                ..PlannerSettings::default()
+                max_segments: max_segments.unwrap_or(defaults.max_segments),
+                ..defaults
             };
             match seed {
                 Some(seed) => s.seeded(seed),
@@ -195,7 +208,7 @@ mod imp {
         _model: &SceneModel,
         _problem: &Problem,
         _settings: TaskSettings,
-        _seed: Option<u64>,
+        _motion_options: (Option<u64>, Option<usize>),
         _budget: (Duration, &str),
         _out_path: Option<&Path>,
         _out: &mut dyn Write,

@@ -1,5 +1,6 @@
 //! `kinscene plan --scene S.urdf --goal G.toml [--budget 10s] [--out plan.json]
-//! [--strategy search|random|paper] [--seed N] [--robot URDF|gen3] [--tool-link LINK] [--srdf FILE]
+//! [--strategy search|random|paper] [--seed N] [--robot URDF|gen3] [--max-segments N]
+//! [--tool-link LINK] [--srdf FILE]
 //! [--arm-root LINK] [--frozen JOINT=VALUE ...] [--contact-link LINK ...] [--tool-approach X,Y,Z]
 //! [--package NAME=PATH ...]`:
 //! plans the order of single-joint changes that reaches a goal ([`kinscene::task::plan`]) and
@@ -90,10 +91,16 @@ pub struct Args {
     seed: Option<u64>,
     /// Refine the plan with motion for this robot: a robot URDF, or `gen3` for the shipped
     /// Kinova Gen3 on an omnidirectional base. The document then also holds base paths, base
-    /// poses, arm paths and timing per step (schema: `kinscene::planner`'s document module),
-    /// and the goal file must give the robot's start pose (`[robot] base = [x, y, yaw]`).
+    /// poses, arm paths and timing per step, or per segment of a step that no single base pose
+    /// covers (schema: `kinscene::planner`'s document module), and the goal file must give the
+    /// robot's start pose (`[robot] base = [x, y, yaw]`).
     #[arg(long, value_name = "URDF|gen3")]
     robot: Option<PathBuf>,
+    /// With a robot: the most segments one step may be split into when no single base pose
+    /// covers it (the robot lets go, drives to another base pose and grasps again in between);
+    /// 1 keeps every step to one base pose [default: 4].
+    #[arg(long, value_name = "N", value_parser = parse_segments, requires = "robot")]
+    max_segments: Option<usize>,
     /// With a robot URDF: the link whose frame is the tool (TCP, +z the approach direction)
     /// [default: tool_frame]. The `--package` paths also resolve the robot's mesh URIs.
     #[arg(long, value_name = "LINK", requires = "robot")]
@@ -123,6 +130,14 @@ pub struct Args {
     /// arm joint whose name contains `finger` or `pad`].
     #[arg(long = "contact-link", value_name = "LINK", requires = "robot")]
     contact_links: Vec<String>,
+}
+
+/// Parses a segment count, at least 1.
+fn parse_segments(s: &str) -> Result<usize, String> {
+    match s.trim().parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => Err(format!("{s:?} is not a whole number of at least 1")),
+    }
 }
 
 /// Parses `X,Y,Z`.
@@ -227,7 +242,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<Verdict, CliError> {
             &model,
             &problem,
             settings,
-            args.seed,
+            (args.seed, args.max_segments),
             (budget, args.budget.trim()),
             args.out.as_deref(),
             out,

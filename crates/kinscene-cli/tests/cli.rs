@@ -633,6 +633,25 @@ fn plan_with_a_robot_writes_base_and_arm_paths_with_timing() {
 }
 
 #[test]
+fn max_segments_is_a_positive_count_for_a_robot() {
+    // 0 segments cannot cover a step; without --robot there is no motion to segment.
+    let goal = goal_path("dishwasher.toml");
+    for extra in [
+        &["--robot", "gen3", "--max-segments", "0"][..],
+        &["--robot", "gen3", "--max-segments", "two"][..],
+        &["--max-segments", "2"][..],
+    ] {
+        // Rejected by the argument parser (clap's own message, exit code 2), before any file
+        // is read.
+        let output = plan_kitchen(&goal, extra);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{extra:?}: {stderr}");
+        assert!(output.stdout.is_empty());
+        assert!(stderr.contains("--max-segments"), "{extra:?}: {stderr}");
+    }
+}
+
+#[test]
 fn plan_with_a_bad_robot_file_is_bad_input() {
     let scene = counter_path();
     let goal = scratch_file(

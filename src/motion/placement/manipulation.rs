@@ -60,6 +60,17 @@ fn unwrap_continuous(robot: &RobotModel, q: &mut DVector<f64>, prev: &DVector<f6
     }
 }
 
+/// When IK along a trajectory gives up on a base pose that cannot win any more.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Cutoff {
+    /// Never: every waypoint is tried.
+    None,
+    /// Once fewer than this many waypoints can still be reached.
+    Reached(usize),
+    /// At the first waypoint not reached (the reached prefix is then fixed).
+    FirstMiss,
+}
+
 /// One waypoint's IK problem.
 struct Attempt<'a> {
     base: [f64; 3],
@@ -369,14 +380,13 @@ impl<'a> Prepared<'a> {
     }
 
     /// IK along the trajectory at `base` (see [`plan_manipulation`](super::plan_manipulation)).
-    /// Gives up (marking the rest [`WaypointFailure::Skipped`]) once fewer than `at_least`
-    /// waypoints can still be reached.
+    /// Gives up (marking the rest [`WaypointFailure::Skipped`]) as `cutoff` says.
     pub(crate) fn plan(
         &self,
         base: [f64; 3],
         seed: &DVector<f64>,
         settings: &ManipulationSettings,
-        at_least: usize,
+        cutoff: Cutoff,
     ) -> Result<ManipulationPlan, PlacementError> {
         let p = &self.problem;
         let n = self.motion.len();
@@ -391,7 +401,12 @@ impl<'a> Prepared<'a> {
         let mut scratch = SceneData::new(p.model);
         let mut ik_data = IkData::new(p.ik)?;
         for k in 0..n {
-            if plan.reached_count() + (n - k) < at_least {
+            let give_up = match cutoff {
+                Cutoff::None => false,
+                Cutoff::Reached(at_least) => plan.reached_count() + (n - k) < at_least,
+                Cutoff::FirstMiss => plan.reached.iter().any(|r| !r),
+            };
+            if give_up {
                 let last = plan.arm.last().cloned().unwrap_or_else(|| seed.clone());
                 plan.arm.push(last);
                 plan.reached.push(false);

@@ -23,11 +23,13 @@
 //! 3. **Base placement**, [`PlacementMethod`]:
 //!    - [`Sampled`](PlacementMethod::Sampled), the paper's: the robot's current base pose,
 //!      then base poses drawn in the region of [`SamplingSettings`] (an annular sector in
-//!      front of the handle trajectory, facing it with a yaw jitter), those whose base links
-//!      touch the scene (current state, the moving part at every waypoint) rejected, a
+//!      front of the handle trajectory, facing it with a yaw jitter), those outside the
+//!      scene's navigation grid or whose base links touch the scene (current state, the moving part at every waypoint) rejected, a
 //!      manipulation plan from each of the others; the
 //!      plan with the most waypoints reached wins (ties: shortest joint-space path plus a
-//!      weighted distance from the robot's current position).
+//!      weighted distance from the robot's current position). With
+//!      [`PlacementObjective::LongestPrefix`] the longest run of reached waypoints from the
+//!      first wins instead (same ties), which tells how far one base pose carries the motion.
 //!    - [`Optimised`](PlacementMethod::Optimised): the best sample, then one nonlinear program
 //!      solved by IPOPT through CasADi (below); its result is verified independently and
 //!      accepted only if it reaches **every** waypoint (and, when the sample reached every
@@ -89,8 +91,8 @@ pub use manipulation::{ArmReach, arm_reach};
 pub use optimised::PlacementData;
 pub use plan::{ManipulationPlan, Obstacle, WaypointFailure};
 pub use settings::{
-    MAX_STEPS, ManipulationSettings, OptimisationSettings, PlacementMethod, PlacementSettings,
-    SamplingSettings,
+    MAX_STEPS, ManipulationSettings, OptimisationSettings, PlacementMethod, PlacementObjective,
+    PlacementSettings, SamplingSettings,
 };
 
 use crate::control::Termination;
@@ -98,7 +100,7 @@ use crate::kinematics::ik::IkSolver;
 use crate::kinematics::robot::{RobotCollision, RobotModel};
 use crate::scene::collision::handle_standoff;
 use crate::scene::{HandleId, JointId, PartId, SceneModel, State};
-use manipulation::Prepared;
+use manipulation::{Cutoff, Prepared};
 use sampled::Stop;
 
 /// `a; b`, or whichever is present.
@@ -191,6 +193,13 @@ impl PlacementOutcome {
         self.reached.iter().all(|r| *r)
     }
 
+    /// Number of waypoints reached before the first one that is not, counted from the first
+    /// of [`JointMotion::grasps`] (the pre-grasp frame when the motion has a straight
+    /// approach): what the arm can execute from `base` without letting go.
+    pub fn reached_prefix(&self) -> usize {
+        plan::reached_prefix(&self.reached)
+    }
+
     /// Smoothness `Σ ‖q_{k+1} − q_k‖²` of the arm trajectory.
     pub fn smoothness(&self) -> f64 {
         self.arm
@@ -221,7 +230,7 @@ pub fn plan_manipulation(
     }
     check_seed(problem.robot, seed)?;
     let prepared = Prepared::new(problem, motion, rotation)?;
-    prepared.plan(base, seed, settings, 0)
+    prepared.plan(base, seed, settings, Cutoff::None)
 }
 
 fn check_seed(robot: &RobotModel, seed: &DVector<f64>) -> Result<(), PlacementError> {
@@ -272,20 +281,7 @@ pub fn place_and_plan(
     if robot_from.iter().any(|v| !v.is_finite()) {
         return Err(PlacementError::NonFinite { what: "robot_from" });
     }
-    let motion = JointMotion::new(
-        problem.model,
-        problem.state,
-        joint,
-        handle,
-        to,
-        settings.steps,
-    )?
-    .with_standoff(grasp_standoff(
-        &problem,
-        handle,
-        settings.manipulation.finger_clearance,
-    )?)
-    .with_approach(settings.approach_distance, settings.approach_steps);
+    let motion = placement_motion(problem, joint, handle, to, settings)?;
     let mut prepared = Prepared::new(problem, &motion, settings.grasp)?;
     prepared.termination = termination.capped(settings.sampling.budget);
     let seed = problem.robot.neutral();
@@ -381,6 +377,39 @@ pub fn place_and_plan(
         elapsed: start.elapsed(),
         stats,
     })
+}
+
+/// The joint motion [`place_and_plan`] plans for: `joint` from its value in `problem.state`
+/// to `to` in `settings.steps` steps by `handle`
+/// ([`JointMotion::new`]), the grasp points moved out by [`grasp_standoff`] (with
+/// `settings.manipulation.finger_clearance`, [`JointMotion::with_standoff`]), with the straight
+/// approach and retreat of `settings` ([`JointMotion::with_approach`]). With
+/// [`plan_manipulation`] it evaluates one given base pose exactly as the sampler evaluates
+/// each of its candidates.
+///
+/// # Errors
+/// As [`JointMotion::new`] and [`grasp_standoff`].
+pub fn placement_motion(
+    problem: PlacementProblem<'_>,
+    joint: JointId,
+    handle: HandleId,
+    to: f64,
+    settings: &PlacementSettings,
+) -> Result<JointMotion, PlacementError> {
+    Ok(JointMotion::new(
+        problem.model,
+        problem.state,
+        joint,
+        handle,
+        to,
+        settings.steps,
+    )?
+    .with_standoff(grasp_standoff(
+        &problem,
+        handle,
+        settings.manipulation.finger_clearance,
+    )?)
+    .with_approach(settings.approach_distance, settings.approach_steps))
 }
 
 /// How far the tool stops short of `handle`'s grasp point (m, out along the normal): what the

@@ -10,7 +10,12 @@ use nalgebra::Isometry3;
 use crate::kinematics::robot::{Exempt, RobotCollision, RobotModel};
 use crate::scene::collision::Body;
 use crate::scene::collision::BodyName;
-use crate::scene::{SceneData, SceneModel};
+use crate::scene::{PartId, SceneData, SceneModel};
+
+/// The number of leading `true`s of `reached`.
+pub(crate) fn reached_prefix(reached: &[bool]) -> usize {
+    reached.iter().take_while(|r| **r).count()
+}
 
 /// What a robot configuration touches, by index and by URDF name.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -189,6 +194,29 @@ impl ManipulationPlan {
     /// True when every waypoint is reached.
     pub fn is_complete(&self) -> bool {
         self.reached.iter().all(|r| *r)
+    }
+
+    /// The scene parts the robot touched at (or on the way to) a waypoint not reached.
+    pub fn obstacle_parts(&self) -> impl Iterator<Item = PartId> + '_ {
+        self.failures.iter().filter_map(|f| match f {
+            Some(
+                WaypointFailure::Collision(Obstacle::Scene {
+                    body: Body::Part(part),
+                    ..
+                })
+                | WaypointFailure::SegmentCollision(Obstacle::Scene {
+                    body: Body::Part(part),
+                    ..
+                }),
+            ) => Some(*part),
+            _ => None,
+        })
+    }
+
+    /// Number of waypoints reached before the first one that is not (all of them when
+    /// complete).
+    pub fn reached_prefix(&self) -> usize {
+        reached_prefix(&self.reached)
     }
 
     /// Joint-space path length `Σ ‖q_{k+1} − q_k‖` (rad or m, Euclidean).

@@ -8,9 +8,9 @@ use nalgebra::{DVector, Point2, Vector2};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use super::manipulation::Prepared;
-use super::plan::{ManipulationPlan, Obstacle, WaypointFailure};
-use super::{ManipulationSettings, PlacementError, SamplingSettings};
+use super::manipulation::{Cutoff, Prepared};
+use super::plan::ManipulationPlan;
+use super::{ManipulationSettings, PlacementError, PlacementObjective, SamplingSettings};
 use crate::kinematics::robot::RobotConfig;
 use crate::scene::PartId;
 use crate::scene::collision::Body;
@@ -80,11 +80,13 @@ pub(crate) fn region(
     (Point2::from(centroid), front, distance)
 }
 
-/// Draws base poses, rejects those whose base links collide with the scene at any waypoint (the
-/// parts at the current state and the moving part along its motion), and plans the
+/// Draws base poses, rejects those outside the scene's navigation grid (no base path ends
+/// there) or whose base links collide with the scene at any waypoint (the parts at the
+/// current state and the moving part along its motion), and plans the
 /// manipulation from the others until `settings.samples` were evaluated or `max_draws` drawn
 /// (the robot's current pose `robot_from` first, when `current_pose` is set, outside that
-/// count); keeps the plan with the most waypoints reached, then the lowest
+/// count); keeps the plan with the most waypoints reached (or, for
+/// [`PlacementObjective::LongestPrefix`], the longest reached prefix), then the lowest
 /// `path_length + distance_weight · ‖base − robot_from‖`, then the earliest.
 pub(crate) fn sample(
     prepared: &Prepared<'_>,
@@ -111,16 +113,28 @@ pub(crate) fn sample(
                     best: &mut Option<(usize, f64, ManipulationPlan)>,
                     obstacles: &mut BTreeSet<PartId>|
      -> Result<bool, PlacementError> {
+        let grid = prepared.problem.model.base_grid();
+        if grid.cell_of(Point2::new(base[0], base[1])).is_none() {
+            return Ok(false);
+        }
         if let Some(body) = base_collides(prepared, base, seed, sampling.base_margin)? {
             if let Body::Part(part) = body {
                 obstacles.insert(part);
             }
             return Ok(false);
         }
-        let at_least = best.as_ref().map_or(0, |b| b.0);
-        let plan = prepared.plan(base, seed, manipulation, at_least)?;
+        let (cutoff, reached): (Cutoff, fn(&ManipulationPlan) -> usize) = match sampling.objective {
+            PlacementObjective::MostReached => (
+                Cutoff::Reached(best.as_ref().map_or(0, |b| b.0)),
+                ManipulationPlan::reached_count,
+            ),
+            PlacementObjective::LongestPrefix => {
+                (Cutoff::FirstMiss, ManipulationPlan::reached_prefix)
+            }
+        };
+        let plan = prepared.plan(base, seed, manipulation, cutoff)?;
         obstacles.extend(obstacle_parts(&plan));
-        let score = (plan.reached_count(), cost(&plan));
+        let score = (reached(&plan), cost(&plan));
         let better = best
             .as_ref()
             .is_none_or(|b| score.0 > b.0 || (score.0 == b.0 && score.1 < b.1));
@@ -188,17 +202,5 @@ fn base_collides(
 
 /// The parts a plan's waypoints (or the segments to them) touched.
 pub(crate) fn obstacle_parts(plan: &ManipulationPlan) -> impl Iterator<Item = PartId> + '_ {
-    plan.failures.iter().filter_map(|f| match f {
-        Some(
-            WaypointFailure::Collision(Obstacle::Scene {
-                body: Body::Part(part),
-                ..
-            })
-            | WaypointFailure::SegmentCollision(Obstacle::Scene {
-                body: Body::Part(part),
-                ..
-            }),
-        ) => Some(*part),
-        _ => None,
-    })
+    plan.obstacle_parts()
 }

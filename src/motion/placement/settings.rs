@@ -22,6 +22,20 @@ pub enum PlacementMethod {
     Optimised,
 }
 
+/// Which base pose the sampler keeps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PlacementObjective {
+    /// The paper's: the most waypoints reached, wherever they are along the motion.
+    #[default]
+    MostReached,
+    /// The longest run of reached waypoints from the first (the pre-grasp): how far along the
+    /// motion the robot gets from that base pose before it would have to let go. IK along a
+    /// candidate stops at its first waypoint not reached (the rest count as
+    /// [`Skipped`](super::WaypointFailure::Skipped)). The hierarchical planner uses it to
+    /// choose where a segmented manipulation regrasps.
+    LongestPrefix,
+}
+
 /// Settings of the manipulation plan at one base pose (IK along the trajectory and its checks).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ManipulationSettings {
@@ -88,8 +102,10 @@ impl Default for ManipulationSettings {
 /// normals, projected on the floor; if that is shorter than 0.1, the direction from `c` to the
 /// robot's current position). The default spread, π, is the whole annulus "around the part":
 /// beside a door's sweep is often the only place the base fits. The yaw faces `c` (base +x
-/// towards it) plus a uniform jitter in `±yaw_jitter`. Poses whose base links touch the scene
-/// are drawn again, up to `max_draws` draws in all. Draws are reproducible from `seed`.
+/// towards it) plus a uniform jitter in `±yaw_jitter`. Poses outside the scene's navigation
+/// grid ([`SceneModel::base_grid`](crate::scene::SceneModel::base_grid)), where no base path
+/// can end, or whose base links touch the scene are drawn again, up to `max_draws` draws in
+/// all. Draws are reproducible from `seed`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SamplingSettings {
     /// Number of collision-free base poses to evaluate (IK along the trajectory), >= 1.
@@ -124,6 +140,9 @@ pub struct SamplingSettings {
     /// `samples`). Where the arm can do the whole motion from where the robot stands, and no
     /// drawn pose is better by the tie-break, the base does not move. Default true.
     pub current_pose: bool,
+    /// What makes one sample better than another before the tie-break: the most waypoints
+    /// reached (the paper's, default) or the longest reached prefix.
+    pub objective: PlacementObjective,
 }
 
 impl Default for SamplingSettings {
@@ -139,6 +158,7 @@ impl Default for SamplingSettings {
             base_margin: 0.02,
             distance_weight: 0.5,
             current_pose: true,
+            objective: PlacementObjective::MostReached,
         }
     }
 }

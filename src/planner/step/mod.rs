@@ -16,6 +16,10 @@
 //!    exempt);
 //! 5. nothing else moves: the next step starts from the stowed arm at this base pose.
 //!
+//! **Segments.** A step that no single base pose covers is executed as consecutive segments,
+//! each the phases above from a base pose of its own (the rule is in the
+//! [planner's docs](crate::planner#segments); the code in `segment.rs`).
+//!
 //! **Contact rule.** From the pre-grasp through the manipulation to the post-grasp
 //! configuration the robot is checked with [`Exempt::Grasp`](crate::kinematics::robot::Exempt::Grasp): only the gripper's contact
 //! shapes (fingers, pads) may touch the grasped part and its descendants, and every other
@@ -31,9 +35,10 @@
 
 mod arm;
 mod refine;
+mod segment;
 mod timing;
 
-pub(super) use refine::refine;
+pub(super) use segment::refine;
 
 use std::fmt;
 
@@ -45,7 +50,7 @@ use super::{PlannerError, PlannerSettings};
 use crate::kinematics::ik::IkSolver;
 use crate::kinematics::robot::{RobotCollision, RobotModel};
 use crate::motion::paths::PathOutcome;
-use crate::motion::placement::{PlacementData, PlacementOutcome};
+use crate::motion::placement::PlacementData;
 use crate::motion::timing::TimedPath;
 use crate::scene::{JointId, PartId, SceneData, SceneModel, State, forward_kinematics};
 use crate::task::{Robot, Step, Termination};
@@ -98,20 +103,38 @@ pub struct StepFailure {
     pub check: Check,
     /// Why, in one line.
     pub reason: String,
+    /// Where in a segmented step it failed; `None` when the step was being refined as one
+    /// segment (its placement, or the phases from the one base pose that covers it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub segment: Option<FailedSegment>,
+}
+
+/// The segment of a step that failed (see [segments](crate::planner#segments)).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct FailedSegment {
+    /// Its index (0 for the first); the segments before it were refined.
+    pub index: usize,
+    /// The joint's value at its start (where the segments before it left the part).
+    pub from: f64,
+    /// The value it was to reach: a chosen segment end, or the step's target when the
+    /// placement of the rest of the step failed.
+    pub to: f64,
 }
 
 impl fmt::Display for StepFailure {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "step {} ({:?} {:.4} -> {:.4}): {} failed: {}",
+            "step {} ({:?} {:.4} -> {:.4}",
             self.step + 1,
             self.joint,
             self.from,
             self.to,
-            self.check,
-            self.reason
-        )
+        )?;
+        if let Some(s) = &self.segment {
+            write!(f, ", segment {} {:.4} -> {:.4}", s.index + 1, s.from, s.to)?;
+        }
+        write!(f, "): {} failed: {}", self.check, self.reason)
     }
 }
 
@@ -140,14 +163,17 @@ impl StepTiming {
     }
 }
 
-/// The motion of one step.
+/// The motion of one step, or of one segment of a segmented step (see
+/// [segments](crate::planner#segments)): `from` and `to` are then the segment's, and the next
+/// segment starts where this one ends (its `from` is this `to`, its base path starts at this
+/// `base`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct StepMotion {
     /// The joint moved.
     pub joint: String,
-    /// Its value before the step.
+    /// Its value before the step (segment).
     pub from: f64,
-    /// Its value after the step.
+    /// Its value after the step (segment).
     pub to: f64,
     /// The handle grasped.
     pub handle: String,
@@ -292,11 +318,4 @@ fn describe(outcome: &PathOutcome, what: &str) -> String {
         PathOutcome::Timeout(()) => format!("no {what} path within the budget"),
         PathOutcome::Cancelled(()) => format!("{what}: cancelled"),
     }
-}
-
-/// The parts a failed placement may depend on: the parts any evaluated sample touched. With
-/// them at the same values (and the moved part's ancestors, which place its axis), the
-/// deterministic placement fails again, whatever the other joints do.
-fn placement_causes(placement: &PlacementOutcome) -> Option<Vec<PartId>> {
-    Some(placement.obstacle_parts.clone())
 }

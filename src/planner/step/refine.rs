@@ -1,93 +1,33 @@
-//! Refining one step, phase by phase: the placement and the base path here, the arm's phases
-//! in `arm.rs`, the timing in `timing.rs`.
+//! Refining one segment of a step, phase by phase: the placement and the base path here, the
+//! arm's phases in `arm.rs`, the timing in `timing.rs`; which segments, in `segment.rs`.
+
+use nalgebra::DVector;
 
 use super::{
-    Check, Failed, StepContext, StepMotion, StepTiming, describe, first_handle_name, grasped,
-    grid_bounds, placement_causes, same_pose,
+    Check, Failed, FailedSegment, StepContext, StepMotion, StepTiming, describe, grasped,
+    grid_bounds, same_pose,
 };
 use crate::kinematics::robot::{Exempt, RobotConfig};
 use crate::motion::paths::{PathOutcome, first_invalid, plan_base};
-use crate::motion::placement::{PlacementProblem, place_and_plan};
+use crate::motion::placement::{
+    JointMotion, PlacementOutcome, PlacementProblem, PlacementSettings, place_and_plan,
+};
 use crate::planner::arm_check::ArmCheck;
 use crate::planner::{PlannerError, StepFailure};
-use crate::scene::{JointId, PartId, SceneData, State, forward_kinematics};
+use crate::scene::{HandleId, JointId, PartId, SceneData, State, forward_kinematics};
 use crate::task::Step;
 
-/// Refines `step` (index `index` of the plan) from `state` with the robot at `robot`. `Ok(Err)`
-/// is a failed check (an outcome); `Err` bad input or a broken backend.
-pub(in crate::planner) fn refine(
-    ctx: &StepContext<'_>,
-    index: usize,
-    state: &State,
-    joint: JointId,
-    step: &Step,
-    robot: &RobotConfig,
-) -> Result<Result<StepMotion, Failed>, PlannerError> {
-    let model = ctx.model;
-    let handle_name = match &step.handle {
-        Some(h) => h.clone(),
-        None => first_handle_name(model, joint)?,
-    };
-    let mut data = SceneData::new(model);
-    forward_kinematics(model, &mut data, state)?;
-    let r = StepRefinement {
-        ctx,
-        index,
-        step,
-        joint,
-        state,
-        data,
-        grasped: grasped(model, joint),
-        arm_margin: ctx
-            .settings
-            .margin
-            .min(ctx.settings.placement.manipulation.margin),
-    };
-    let placed = match r.place(&handle_name, robot.base)? {
-        Ok(p) => p,
-        Err(f) => return Ok(Err(f)),
-    };
-    if ctx.termination.should_stop() {
-        return Ok(Err(r.fail(Check::Stopped, "after base placement".into())));
-    }
-    let base = placed.base;
-    let base_path = match r.base_path(robot.base, base)? {
-        Ok(p) => p,
-        Err(f) => return Ok(Err(f)),
-    };
-    let arm = match r.arm_paths(&placed)? {
-        Ok(a) => a,
-        Err(f) => return Ok(Err(f)),
-    };
-    let (base_timed, approach, manipulation, retreat) = r.time(&placed, &base_path, &arm)?;
-    let timing = StepTiming {
-        base: base_timed.duration,
-        approach: approach.duration,
-        manipulation: manipulation.duration,
-        retreat: retreat.duration,
-    };
-    Ok(Ok(StepMotion {
-        joint: step.joint.clone(),
-        from: step.from,
-        to: step.to,
-        handle: handle_name,
-        base,
-        base_path: base_timed,
-        approach,
-        pregrasp: arm.pregrasp,
-        manipulation,
-        retreat,
-        postgrasp: arm.postgrasp,
-        timing,
-    }))
-}
-
-/// One step being refined: its context, the scene at the step's start state and the parts the
-/// gripper holds.
+/// One segment of a step being refined (the whole step when it is not segmented): its
+/// context, the scene at the segment's start state and the parts the gripper holds.
 pub(super) struct StepRefinement<'c, 'a> {
     pub(super) ctx: &'c StepContext<'a>,
     pub(super) index: usize,
+    /// The task plan's step, which failures name.
+    pub(super) task_step: &'c Step,
+    /// The segment: the joint from its value in `state` to `step.to`.
     pub(super) step: &'c Step,
+    /// Where in a segmented step this is (`None`: the step is refined as one segment).
+    pub(super) segment: Option<FailedSegment>,
     pub(super) joint: JointId,
     pub(super) state: &'c State,
     /// The scene at `state`.
@@ -111,6 +51,17 @@ pub(super) struct Placed {
 }
 
 impl Placed {
+    /// The configurations `arm` at `base` along `motion` (every waypoint reached).
+    pub(super) fn new(base: [f64; 3], arm: &[DVector<f64>], motion: &JointMotion) -> Placed {
+        let trajectory = motion.trajectory();
+        Placed {
+            base,
+            all: arm.iter().map(|q| q.as_slice().to_vec()).collect(),
+            grasp_at: *trajectory.start(),
+            release_at: *trajectory.end(),
+        }
+    }
+
     /// The handle trajectory's configurations.
     pub(super) fn waypoints(&self) -> &[Vec<f64>] {
         &self.all[self.grasp_at..=self.release_at]
@@ -128,17 +79,122 @@ pub(super) struct ArmPaths {
 }
 
 impl<'c, 'a> StepRefinement<'c, 'a> {
+    /// The segment `step` of `task_step` (index `index` in the plan) from `state`, where the
+    /// joint is at `step.from`.
+    pub(super) fn new(
+        ctx: &'c StepContext<'a>,
+        index: usize,
+        task_step: &'c Step,
+        step: &'c Step,
+        segment: Option<FailedSegment>,
+        joint: JointId,
+        state: &'c State,
+    ) -> Result<Self, PlannerError> {
+        let model = ctx.model;
+        let mut data = SceneData::new(model);
+        forward_kinematics(model, &mut data, state)?;
+        Ok(StepRefinement {
+            ctx,
+            index,
+            task_step,
+            step,
+            segment,
+            joint,
+            state,
+            data,
+            grasped: grasped(model, joint),
+            arm_margin: ctx
+                .settings
+                .margin
+                .min(ctx.settings.placement.manipulation.margin),
+        })
+    }
+
     /// A failure without known causes: every joint may matter.
     pub(super) fn fail(&self, check: Check, reason: String) -> Failed {
         let failure = StepFailure {
             step: self.index,
+            joint: self.task_step.joint.clone(),
+            from: self.task_step.from,
+            to: self.task_step.to,
+            check,
+            reason,
+            segment: self.segment,
+        };
+        (failure, None)
+    }
+
+    /// The placement problem at the segment's start state.
+    pub(super) fn problem(&self) -> PlacementProblem<'c> {
+        let ctx = self.ctx;
+        PlacementProblem {
+            robot: ctx.robot,
+            collision: ctx.collision,
+            ik: ctx.ik,
+            model: ctx.model,
+            state: self.state,
+        }
+    }
+
+    /// [`place_and_plan`] for the segment with `settings`, the robot's base at `from`.
+    pub(super) fn placement(
+        &self,
+        handle: HandleId,
+        from: [f64; 3],
+        settings: &PlacementSettings,
+    ) -> Result<PlacementOutcome, PlannerError> {
+        let ctx = self.ctx;
+        let mut scratch = ctx.placement.lock().unwrap_or_else(|e| e.into_inner());
+        Ok(place_and_plan(
+            self.problem(),
+            self.joint,
+            handle,
+            self.step.to,
+            from,
+            settings,
+            &mut scratch,
+            ctx.termination,
+        )?)
+    }
+
+    /// The segment's phases from the placement `placed`, the robot's base at `from`: the base
+    /// path, the arm's paths, their timing.
+    pub(super) fn execute(
+        &self,
+        handle: &str,
+        placed: &Placed,
+        from: [f64; 3],
+    ) -> Result<Result<StepMotion, Failed>, PlannerError> {
+        let base = placed.base;
+        let base_path = match self.base_path(from, base)? {
+            Ok(p) => p,
+            Err(f) => return Ok(Err(f)),
+        };
+        let arm = match self.arm_paths(placed)? {
+            Ok(a) => a,
+            Err(f) => return Ok(Err(f)),
+        };
+        let (base_timed, approach, manipulation, retreat) = self.time(placed, &base_path, &arm)?;
+        let timing = StepTiming {
+            base: base_timed.duration,
+            approach: approach.duration,
+            manipulation: manipulation.duration,
+            retreat: retreat.duration,
+        };
+        Ok(Ok(StepMotion {
             joint: self.step.joint.clone(),
             from: self.step.from,
             to: self.step.to,
-            check,
-            reason,
-        };
-        (failure, None)
+            handle: handle.to_owned(),
+            base,
+            base_path: base_timed,
+            approach,
+            pregrasp: arm.pregrasp,
+            manipulation,
+            retreat,
+            postgrasp: arm.postgrasp,
+            timing,
+        }))
     }
 
     /// The arm check at the scene `data`, with `exempt`.
@@ -160,55 +216,11 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
         }
     }
 
-    /// Placement: the base pose and the arm along the handle trajectory.
-    fn place(
-        &self,
-        handle_name: &str,
-        from: [f64; 3],
-    ) -> Result<Result<Placed, Failed>, PlannerError> {
-        let ctx = self.ctx;
-        let handle = ctx.model.handle_id(handle_name)?;
-        let placement = {
-            let mut scratch = ctx.placement.lock().unwrap_or_else(|e| e.into_inner());
-            place_and_plan(
-                PlacementProblem {
-                    robot: ctx.robot,
-                    collision: ctx.collision,
-                    ik: ctx.ik,
-                    model: ctx.model,
-                    state: self.state,
-                },
-                self.joint,
-                handle,
-                self.step.to,
-                from,
-                &ctx.settings.placement,
-                &mut scratch,
-                ctx.termination,
-            )?
-        };
-        if !placement.is_complete() {
-            let causes = placement_causes(&placement);
-            let reason = placement.reason.clone().unwrap_or_else(|| {
-                format!(
-                    "{:.0} % of the waypoints reached",
-                    100.0 * placement.reached_fraction
-                )
-            });
-            let (failure, _) = self.fail(Check::Placement, reason);
-            return Ok(Err((failure, causes)));
-        }
-        let trajectory = placement.motion.trajectory();
-        Ok(Ok(Placed {
-            base: placement.base,
-            all: placement
-                .arm
-                .iter()
-                .map(|q| q.as_slice().to_vec())
-                .collect(),
-            grasp_at: *trajectory.start(),
-            release_at: *trajectory.end(),
-        }))
+    /// Whether a base path can end at `b`: inside the navigation grid's extent (the base
+    /// path's bounds) and [`base_valid`](Self::base_valid).
+    pub(super) fn base_reachable(&self, b: &[f64; 3]) -> bool {
+        let (lo, hi) = grid_bounds(self.ctx.model);
+        (lo[0]..=hi[0]).contains(&b[0]) && (lo[1]..=hi[1]).contains(&b[1]) && self.base_valid(b)
     }
 
     /// Whether the robot at base pose `b` with the arm stowed is clear of the scene at the

@@ -1,0 +1,278 @@
+//! Which segments a step is executed in: the single placement first; when it does not cover
+//! the step, segment ends from the longest reached prefix (the rule is in the module docs of
+//! [`super`], "Segments").
+
+use std::collections::BTreeSet;
+
+use super::refine::{Placed, StepRefinement};
+use super::{Check, Failed, FailedSegment, StepContext, StepMotion, first_handle_name};
+use crate::kinematics::robot::RobotConfig;
+use crate::motion::placement::{
+    PlacementMethod, PlacementObjective, PlacementOutcome, placement_motion, plan_manipulation,
+};
+use crate::planner::PlannerError;
+use crate::scene::{HandleId, JointId, PartId, State};
+use crate::task::Step;
+
+/// Refines `step` (index `index` of the plan) from `state` with the robot at `robot`: the
+/// motion of each of its segments, in order (one when a single base pose covers the step).
+/// `Ok(Err)` is a failed check (an outcome); `Err` bad input or a broken backend.
+pub(in crate::planner) fn refine(
+    ctx: &StepContext<'_>,
+    index: usize,
+    state: &State,
+    joint: JointId,
+    step: &Step,
+    robot: &RobotConfig,
+) -> Result<Result<Vec<StepMotion>, Failed>, PlannerError> {
+    let model = ctx.model;
+    let handle_name = match &step.handle {
+        Some(h) => h.clone(),
+        None => first_handle_name(model, joint)?,
+    };
+    let mut run = Segments {
+        ctx,
+        index,
+        step,
+        joint,
+        handle: model.handle_id(&handle_name)?,
+        causes: BTreeSet::new(),
+    };
+    let mut motions: Vec<StepMotion> = Vec::new();
+    let mut state = state.clone();
+    let mut base = robot.base;
+    let mut from = step.from;
+    loop {
+        let i = motions.len();
+        let (placed, end) = match run.next_segment(i, from, &state, base)? {
+            Ok(next) => next,
+            Err(f) => return Ok(Err(f)),
+        };
+        let segment = Step {
+            from,
+            to: end,
+            ..step.clone()
+        };
+        let label = (i > 0 || end != step.to).then_some(FailedSegment {
+            index: i,
+            from,
+            to: end,
+        });
+        let r = StepRefinement::new(ctx, index, step, &segment, label, joint, &state)?;
+        if ctx.termination.should_stop() {
+            return Ok(Err(r.fail(Check::Stopped, "after base placement".into())));
+        }
+        let motion = match r.execute(&handle_name, &placed, base)? {
+            Ok(m) => m,
+            Err(f) => return Ok(Err(f)),
+        };
+        base = motion.base;
+        motions.push(motion);
+        if end == step.to {
+            return Ok(Ok(motions));
+        }
+        state.set(model, joint, end)?;
+        from = end;
+    }
+}
+
+/// The segments of one step being chosen, and the parts the placements so far depended on.
+struct Segments<'c, 'a> {
+    ctx: &'c StepContext<'a>,
+    index: usize,
+    step: &'c Step,
+    joint: JointId,
+    handle: HandleId,
+    /// The scene parts that got in the way of any placement of this step: with them (and the
+    /// moved part's ancestors) at the same values, every placement, and so every segment end
+    /// and base pose, is the same.
+    causes: BTreeSet<PartId>,
+}
+
+impl Segments<'_, '_> {
+    /// Segment `i`, which starts at `from` in `state` with the base at `base`: its placement
+    /// and its end, or why there is none (with the parts it depends on).
+    fn next_segment(
+        &mut self,
+        i: usize,
+        from: f64,
+        state: &State,
+        base: [f64; 3],
+    ) -> Result<Result<(Placed, f64), Failed>, PlannerError> {
+        let ctx = self.ctx;
+        let max = ctx.settings.max_segments;
+        let rest = Step {
+            from,
+            ..self.step.clone()
+        };
+        let label = (max > 1 || i > 0).then_some(FailedSegment {
+            index: i,
+            from,
+            to: self.step.to,
+        });
+        let r = StepRefinement::new(ctx, self.index, self.step, &rest, label, self.joint, state)?;
+        let whole = r.placement(self.handle, base, &ctx.settings.placement)?;
+        self.causes.extend(whole.obstacle_parts.iter().copied());
+        if whole.is_complete() {
+            return Ok(Ok((
+                Placed::new(whole.base, &whole.arm, &whole.motion),
+                self.step.to,
+            )));
+        }
+        let why = placement_reason(&whole);
+        if i + 1 >= max {
+            let reason = if i == 0 {
+                why
+            } else {
+                format!(
+                    "{i} segment(s) refined up to {from:.4}, and no base pose covers the rest \
+                     within max_segments = {max}: {why}"
+                )
+            };
+            return Ok(Err(self.placement_failure(&r, reason)));
+        }
+        if ctx.termination.should_stop() {
+            return Ok(Err(r.fail(Check::Stopped, "after base placement".into())));
+        }
+        match self.split(&r, base)? {
+            Ok(next) => Ok(Ok(next)),
+            Err(_) if ctx.termination.should_stop() => Ok(Err(
+                r.fail(Check::Stopped, "while choosing where to regrasp".into())
+            )),
+            Err(split) => {
+                let reason = format!("{why}; segmenting: {split}");
+                Ok(Err(self.placement_failure(&r, reason)))
+            }
+        }
+    }
+
+    /// A placement failure of `r` that depends on the parts in `causes`.
+    fn placement_failure(&self, r: &StepRefinement<'_, '_>, reason: String) -> Failed {
+        let (failure, _) = r.fail(Check::Placement, reason);
+        (failure, Some(self.causes.iter().copied().collect()))
+    }
+
+    /// The first segment of the rest `r` (which no single base pose covers): the base pose
+    /// with the longest reached prefix and the candidate ends it gives, each evaluated there
+    /// and else placed anew; `Err` says why none is covered.
+    fn split(
+        &mut self,
+        r: &StepRefinement<'_, '_>,
+        base: [f64; 3],
+    ) -> Result<Result<(Placed, f64), String>, PlannerError> {
+        let ctx = self.ctx;
+        let settings = &ctx.settings.placement;
+        let mut prefix_settings = settings.clone();
+        prefix_settings.method = PlacementMethod::Sampled;
+        prefix_settings.sampling.objective = PlacementObjective::LongestPrefix;
+        let prefix = r.placement(self.handle, base, &prefix_settings)?;
+        self.causes.extend(prefix.obstacle_parts.iter().copied());
+        let motion = &prefix.motion;
+        let approach = motion.approach;
+        let steps = motion.trajectory().count() - 1;
+        let reached = prefix.reached_prefix();
+        // The last reached waypoint of the handle trajectory (0 is the grasp), short of the
+        // last: a segment must move the part, and must leave some of the motion to the next.
+        let last = reached
+            .checked_sub(approach + 1)
+            .map(|e| e.min(steps.saturating_sub(1)))
+            .filter(|e| *e >= 1);
+        let Some(last) = last else {
+            return Ok(Err(format!(
+                "from no base pose does the arm follow the motion past its first waypoint \
+                 (the best reaches {reached} of {} waypoints in a row from the pre-grasp)",
+                motion.len()
+            )));
+        };
+        let mut tried = Vec::new();
+        for e in candidate_ends(last) {
+            let end = motion.values[approach + e];
+            let segment = Step {
+                from: r.step.from,
+                to: end,
+                ..self.step.clone()
+            };
+            let s = StepRefinement::new(
+                ctx, self.index, self.step, &segment, None, self.joint, r.state,
+            )?;
+            let seg_motion = placement_motion(s.problem(), self.joint, self.handle, end, settings)?;
+            let at_prefix = plan_manipulation(
+                s.problem(),
+                &seg_motion,
+                prefix.base,
+                &ctx.robot.neutral(),
+                settings.grasp,
+                &settings.manipulation,
+            )?;
+            self.causes.extend(at_prefix.obstacle_parts());
+            // A base pose the base path cannot end at (the stowed arm in the way, which the
+            // placement does not check) would only fail the segment later.
+            if at_prefix.is_complete() && s.base_reachable(&at_prefix.base) {
+                return Ok(Ok((
+                    Placed::new(at_prefix.base, &at_prefix.arm, &seg_motion),
+                    end,
+                )));
+            }
+            if ctx.termination.should_stop() {
+                return Ok(Err("stopped while choosing a segment".into()));
+            }
+            let placed = s.placement(self.handle, base, settings)?;
+            self.causes.extend(placed.obstacle_parts.iter().copied());
+            if placed.is_complete() && s.base_reachable(&placed.base) {
+                return Ok(Ok((
+                    Placed::new(placed.base, &placed.arm, &placed.motion),
+                    end,
+                )));
+            }
+            let why = if placed.is_complete() {
+                "its base pose is not clear for the stowed robot".to_owned()
+            } else {
+                placement_reason(&placed)
+            };
+            tried.push(format!("{end:.4} ({why})"));
+        }
+        Ok(Err(format!(
+            "the longest reached prefix ends at waypoint {last} of {steps}, and no segment to \
+             {} is covered from one base pose",
+            tried.join(", or to ")
+        )))
+    }
+}
+
+/// The candidate ends of a segment whose longest reached prefix ends at handle-trajectory
+/// waypoint `last` (>= 1), longest first: `last`; `last − 1` (the end itself may be reachable
+/// but not let go of, the straight retreat from it failing); `⌊last / 2⌋` (a segment well
+/// inside what that base pose reached). Only waypoints past the first, without repeats.
+fn candidate_ends(last: usize) -> Vec<usize> {
+    let mut out: Vec<usize> = Vec::with_capacity(3);
+    for e in [last, last - 1, last / 2] {
+        if e >= 1 && !out.contains(&e) {
+            out.push(e);
+        }
+    }
+    out
+}
+
+/// Why a placement does not cover its motion, in one line.
+fn placement_reason(p: &PlacementOutcome) -> String {
+    p.reason.clone().unwrap_or_else(|| {
+        format!(
+            "{:.0} % of the waypoints reached",
+            100.0 * p.reached_fraction
+        )
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::candidate_ends;
+
+    #[test]
+    fn candidate_ends_are_the_prefix_end_the_one_before_and_its_half() {
+        assert_eq!(candidate_ends(1), [1]);
+        assert_eq!(candidate_ends(2), [2, 1]);
+        assert_eq!(candidate_ends(3), [3, 2, 1]);
+        assert_eq!(candidate_ends(4), [4, 3, 2]);
+        assert_eq!(candidate_ends(9), [9, 8, 4]);
+    }
+}
