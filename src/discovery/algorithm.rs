@@ -86,8 +86,15 @@ pub struct Discovery {
 ///    is "no motion". The base then moves by `reposition_distance` (the paper's 30 cm):
 ///    towards the side of the rotation for a left/right revolute joint, straight back for
 ///    prismatic and horizontal-axis joints, and not at all for no motion (a plain retry);
-///    the move is shortened to 3/4, 1/2, 1/4 if the target is occupied. The next attempt grasps the
-///    handle where it now is, along the last tracked normal.
+///    the move is shortened to 3/4, 1/2, 1/4 if the target is occupied. The next attempt grasps
+///    along the last tracked normal at the last contact (so the end effector keeps tracing
+///    one point of the part: an arc or a line of the same joint, what the estimators fit),
+///    or, when the last attempt's gripper closed on no handle (`GraspLost` at the grasp),
+///    where DetectHandle finds it after LocalNavTo (as in step 2, within `redetect_radius`
+///    of the point that missed; that point again if it is not re-detected). The same point
+///    would miss again: a re-detection off by more than the gripper's reach of the handle,
+///    or a part that moved on after the last contact (under a pull step the arm could not
+///    follow, and settling after the release).
 /// 5. **Post-interaction observation** from a small step back (Algorithm 1, lines 24–27):
 ///    after retracting, the base goes to `PlanBase(p)` at `interaction_distance +
 ///    post_step_back` (if that fails, the observation is taken from where the robot is, and

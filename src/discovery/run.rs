@@ -7,7 +7,7 @@ use nalgebra::{Isometry2, Isometry3, Point3, Unit, Vector2, Vector3};
 use super::error::{DiscoveryError, check_finite};
 use super::explore::{AttemptInput, attempt, checked_cloud, surface_normal};
 use super::fusion::MappedHandle;
-use super::interface::{LocalGoal, PointCloud, Robot};
+use super::interface::{HardwareFailure, LocalGoal, PointCloud, Robot};
 use super::log::{AttemptEnd, AttemptLog, Exploration, HandleLog, MotionClass, Stage};
 use super::part::{NewPart, Observed, new_part};
 use super::placement::{FreeSpace, horizontal, plan_base, shifted};
@@ -139,7 +139,7 @@ impl Run<'_> {
             return fail(Stage::Navigation, "no free pre-interaction base pose");
         };
         // The exploratory interaction, with Reposition between attempts.
-        let attempts = self.attempts(entry, p, normal, b_pre, free)?;
+        let attempts = self.attempts(entry, index, p, normal, b_pre, free)?;
         let mut pulled = pulled(entry, attempts)?;
         // Step back, o_post.
         self.step_back(entry, &p, &dir, pulled.contact_post, free);
@@ -217,29 +217,11 @@ impl Run<'_> {
     /// `redetect_radius` of the mapped handle (the nearest in its frame).
     fn redetect(&mut self, index: usize, h: &MappedHandle) -> Result<Point3<f64>, Stop> {
         let s = self.s;
-        let (mut seen, mut nearest) = (0usize, f64::INFINITY);
-        for _ in 0..s.redetect_tries {
-            let detections = match self.robot.detect_handles() {
-                Ok(d) => d,
-                Err(e) => return fail(Stage::Mapping, format!("detector: {e}")),
-            };
-            for (k, d) in detections.iter().enumerate() {
-                check_finite(d.position.coords.iter().copied(), || {
-                    format!("re-detection {k} of handle {index}")
-                })?;
-            }
-            seen += detections.len();
-            let best = detections
-                .iter()
-                .map(|d| (d.position, (d.position - h.position).norm()))
-                .min_by(|a, b| a.1.total_cmp(&b.1));
-            if let Some((q, d)) = best {
-                nearest = nearest.min(d);
-                if d <= s.redetect_radius {
-                    return Ok(q);
-                }
-            }
-        }
+        let (seen, nearest) = match self.detect_near(index, &h.position)? {
+            Near::Found(q) => return Ok(q),
+            Near::Missed { seen, nearest } => (seen, nearest),
+            Near::Failed(e) => return fail(Stage::Mapping, format!("detector: {e}")),
+        };
         let b = self.robot.base_pose();
         let near = if nearest.is_finite() {
             format!(", the nearest {nearest:.2} m away")
@@ -259,12 +241,45 @@ impl Run<'_> {
         )
     }
 
+    /// Up to `redetect_tries` detector frames: the first detection within `redetect_radius` of
+    /// `expected` (the nearest in its frame).
+    fn detect_near(&mut self, index: usize, expected: &Point3<f64>) -> Result<Near, Stop> {
+        let s = self.s;
+        let (mut seen, mut nearest) = (0usize, f64::INFINITY);
+        for _ in 0..s.redetect_tries {
+            let detections = match self.robot.detect_handles() {
+                Ok(d) => d,
+                Err(e) => return Ok(Near::Failed(e.to_string())),
+            };
+            for (k, d) in detections.iter().enumerate() {
+                check_finite(d.position.coords.iter().copied(), || {
+                    format!("re-detection {k} of handle {index}")
+                })?;
+            }
+            seen += detections.len();
+            let best = detections
+                .iter()
+                .map(|d| (d.position, (d.position - expected).norm()))
+                .min_by(|a, b| a.1.total_cmp(&b.1));
+            if let Some((q, d)) = best {
+                nearest = nearest.min(d);
+                if d <= s.redetect_radius {
+                    return Ok(Near::Found(q));
+                }
+            }
+        }
+        Ok(Near::Missed { seen, nearest })
+    }
+
     /// The exploratory interaction at handle `p` (outward normal `normal`): up to
     /// `max_attempts` attempts from `b_pre` until one succeeds, each logged in `entry`, with
-    /// Reposition between them.
+    /// Reposition between them. A retry grasps at the last contact (the part's path stays
+    /// that of one point, as the estimators assume), or, after a grasp that missed the handle,
+    /// where it is re-detected ([`Run::regrasp_target`]).
     fn attempts(
         &mut self,
         entry: &mut HandleLog,
+        index: usize,
         p: Point3<f64>,
         normal: Unit<Vector3<f64>>,
         mut b_pre: Isometry2<f64>,
@@ -280,7 +295,9 @@ impl Run<'_> {
             segments: Vec::new(),
             success: false,
         };
-        for _ in 0..s.max_attempts {
+        // Whether the last attempt's gripper closed where the handle was not.
+        let mut missed = false;
+        for k in 0..s.max_attempts {
             let goal = LocalGoal {
                 target: hotspot,
                 world_from_base: b_pre,
@@ -290,6 +307,9 @@ impl Run<'_> {
                     .attempts
                     .push(skipped(b_pre, AttemptEnd::Navigation { failure }));
                 continue;
+            }
+            if missed {
+                hotspot = self.regrasp_target(entry, index, k, hotspot)?;
             }
             let o_pre = match self.robot.observe(s.observation_camera) {
                 Ok(o) => o,
@@ -322,6 +342,12 @@ impl Run<'_> {
                 out.contact_post = Some(c);
             }
             hot_normal = result.normal;
+            missed = matches!(
+                result.log.end,
+                AttemptEnd::Grasp {
+                    failure: HardwareFailure::GraspLost
+                }
+            );
             let motion = result.log.motion;
             out.success = result.log.end.is_success();
             entry.attempts.push(result.log);
@@ -335,6 +361,41 @@ impl Run<'_> {
             b_pre = reposition(free, &b_pre, motion, &hotspot, s).unwrap_or(b_pre);
         }
         Ok(out)
+    }
+
+    /// The grasp point of attempt `k` (from 0) after an attempt whose gripper closed on no
+    /// handle at `last` (`GraspLost` at the grasp): the handle re-detected near `last`, else
+    /// `last` again. The handle was not where the gripper closed: a re-detection that landed
+    /// beyond the gripper's reach of it, or a part that moved on after the last contact
+    /// (under a pull step the arm could not follow, or settling after the release); the same
+    /// point would miss it again. A note records which.
+    fn regrasp_target(
+        &mut self,
+        entry: &mut HandleLog,
+        index: usize,
+        k: usize,
+        last: Point3<f64>,
+    ) -> Result<Point3<f64>, Stop> {
+        Ok(match self.detect_near(index, &last)? {
+            Near::Found(q) => {
+                entry.notes.push(format!(
+                    "attempt {}: the gripper missed the handle at the last grasp point; \
+                     re-detected {:.3} m from it",
+                    k + 1,
+                    (q - last).norm()
+                ));
+                q
+            }
+            Near::Missed { .. } | Near::Failed(_) => {
+                entry.notes.push(format!(
+                    "attempt {}: the gripper missed the handle at the last grasp point; not \
+                     re-detected within {} m of it, grasping there again",
+                    k + 1,
+                    self.s.redetect_radius
+                ));
+                last
+            }
+        })
     }
 
     /// Steps back from the handle at `p` (approach direction `dir`) to observe the part at
@@ -387,6 +448,16 @@ impl Run<'_> {
         )?;
         Ok(b.translation.vector - Vector2::new(p.x, p.y))
     }
+}
+
+/// What DetectHandle found near an expected position.
+enum Near {
+    /// A detection within `redetect_radius`.
+    Found(Point3<f64>),
+    /// None within it: how many detections the frames held, and the nearest one's distance.
+    Missed { seen: usize, nearest: f64 },
+    /// The detector failed (its message).
+    Failed(String),
 }
 
 /// The attempts' outcome, with the pull distance recorded in `entry`: on success the first

@@ -195,8 +195,14 @@ ob::StateSpacePtr make_space(const ks_ompl_plan_request& r) {
 
 void set_state(ob::ScopedState<>& st, bool se2, const double* q, size_t dim) {
     for (size_t i = 0; i < dim; ++i) st[static_cast<unsigned int>(i)] = q[i];
-    // SO(2) keeps yaw in [-pi, pi]; OMPL's bounds check would reject any other representative.
-    if (se2) st[2] = std::remainder(q[2], 2.0 * M_PI);
+    // OMPL's SO(2) bounds are the half-open [-pi, pi): its bounds check rejects any other
+    // representative, pi itself included (a robot facing -x: atan2(0, -1) is pi). remainder
+    // maps into the closed [-pi, pi], so its pi becomes -pi, the same heading.
+    if (se2) {
+        double yaw = std::remainder(q[2], 2.0 * M_PI);
+        if (yaw >= M_PI) yaw -= 2.0 * M_PI;
+        st[2] = yaw;
+    }
 }
 
 bool admissible(const ob::SpaceInformationPtr& si, const ob::ScopedState<>& st) {

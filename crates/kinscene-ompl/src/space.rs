@@ -14,7 +14,8 @@ use crate::Error;
 #[derive(Debug, Clone, PartialEq)]
 pub enum StateSpace {
     /// A planar pose `[x, y, yaw]`: `x` and `y` bounded (metres, `[low, high]`), yaw free
-    /// (radians; states coming back from OMPL have yaw in `[-π, π]`).
+    /// (radians: any value, start and goal taken to their representative in OMPL's `[-π, π)`,
+    /// π included; states coming back from OMPL have yaw in `[-π, π]`).
     Se2 {
         /// Bounds of x, `[low, high]`.
         x: [f64; 2],

@@ -166,6 +166,44 @@ fn se2_start_yaw_is_normalised_into_minus_pi_pi() {
 }
 
 #[test]
+fn se2_yaw_of_exactly_pi_is_a_valid_start_and_goal() {
+    // π is a heading like any other (a robot facing −x, as atan2(0, −1) gives). OMPL's SO(2)
+    // bounds are the half-open [−π, π), and remainder(π, 2π) is π itself, so the shim must
+    // map it to −π or the start (the goal) is reported invalid.
+    let _serial = serial();
+    for (start, goal) in [(PI, 0.0), (0.0, PI), (PI, PI), (-PI, PI)] {
+        let problem = Problem::new(
+            StateSpace::Se2 {
+                x: [0.0, 1.0],
+                y: [0.0, 1.0],
+            },
+            vec![0.1, 0.1, start],
+            vec![0.9, 0.9, goal],
+        );
+        let outcome = plan(
+            &problem,
+            &outside_disc,
+            &PlanSettings::default(),
+            Termination::after(Duration::from_secs(5)),
+        )
+        .unwrap();
+        assert_eq!(
+            outcome.status,
+            PlanStatus::ExactSolution,
+            "start yaw {start}, goal yaw {goal}"
+        );
+        // Yaw π is reported as its representative −π (the same heading).
+        let first = outcome.path[0][2];
+        assert!(
+            (first.sin() - start.sin()).abs() <= 1e-12
+                && (first.cos() - start.cos()).abs() <= 1e-12,
+            "start yaw {start} came back as {first}"
+        );
+        assert!((-PI..PI).contains(&first), "start yaw {first}");
+    }
+}
+
+#[test]
 fn log_level_can_be_changed() {
     set_log_level(LogLevel::Error).unwrap();
     set_log_level(LogLevel::None).unwrap();

@@ -1,5 +1,6 @@
 //! The simulator, pipeline and report, tested in place.
 
+mod discovery_tests;
 mod pipeline_tests;
 mod sensors_tests;
 mod sim_tests;
