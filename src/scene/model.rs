@@ -206,7 +206,7 @@ impl SceneModel {
             o.y - ((o.y - lo.y) / r).ceil() * r,
         );
         let mut builder = self.to_builder();
-        let mut nav = self.base.nav.clone();
+        let mut nav = self.base.nav;
         nav.bounds = Some(super::nav::GridBounds { min, max: hi });
         builder.nav_settings(nav);
         Ok(std::borrow::Cow::Owned(builder.build()?))

@@ -7,11 +7,11 @@
 
 use std::f64::consts::PI;
 
+use kinscene::articulation::TwoView;
 use kinscene::discovery::{
     AttemptEnd, DiscoverySettings, Exploration, FusionSettings, HandleDetection, HardwareFailure,
     RegistrationSettings, discover, fuse_detections, register_handles,
 };
-use kinscene::kinematics::articulation::TwoView;
 use kinscene::kinematics::robot::RobotModel;
 use kinscene::scene::urdf::{ImportOptions, read_file};
 use kinscene::scene::{SceneData, SceneModel, forward_kinematics, world_from_handle};
