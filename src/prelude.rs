@@ -6,10 +6,14 @@
 //!
 //! Load a scene URDF ([`SceneModel::from_urdf_file`]) and a goal file
 //! ([`Problem::from_goal_file`]), or build them from values ([`SceneModelBuilder`],
-//! [`GoalSpec`]); plan the order of joint changes ([`plan_task`]) or the whole motion with a
-//! robot ([`HierarchicalPlanner`]); read the [`Outcome`]; write the document ([`PlanFile`],
-//! [`MotionDocument`]). Everything stops at a [`Termination`]. The README's first example uses
-//! this module alone.
+//! [`GoalSpec`]); plan the order of joint changes ([`plan_task`]) and read the [`Outcome`];
+//! write the document ([`PlanFile`]). Everything stops at a [`Termination`]. The README's
+//! first example uses this module alone.
+#![cfg_attr(
+    all(feature = "ompl", feature = "pinocchio", feature = "casadi"),
+    doc = "\nWith the default backends, plan the whole motion with a robot \
+           ([`HierarchicalPlanner`]) and write it as a [`MotionDocument`]."
+)]
 
 pub use crate::control::{Outcome, Termination};
 pub use crate::error::Error;

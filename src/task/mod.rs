@@ -251,8 +251,13 @@ impl<'a> Feasibility<'a> {
     /// The predicate for `problem` on `model` with `lattice` (build it with
     /// [`Lattice::new`] from the same problem and `settings.lattice`).
     ///
+    /// The predicate borrows `model` and cannot grow its grid as [`plan`] does: for a robot
+    /// start off the automatic navigation grid, build it on
+    /// [`SceneModel::covering`]`(&[start])`, the model [`plan`] searches.
+    ///
     /// # Errors
-    /// As [`plan`].
+    /// As [`plan`], except that a start off the automatic grid is
+    /// [`Error::InvalidRobotStart`] naming the remedy.
     pub fn new(
         model: &'a SceneModel,
         problem: &Problem,
@@ -261,6 +266,16 @@ impl<'a> Feasibility<'a> {
     ) -> Result<Self, Error> {
         settings.validate()?;
         problem.start.validate(model)?;
+        let start = problem.robot.start_point();
+        if let (std::borrow::Cow::Owned(_), Some(p)) = (model.covering(&start)?, start.first()) {
+            return Err(Error::InvalidRobotStart {
+                x: p.x,
+                y: p.y,
+                why: "outside the automatic navigation grid (build the predicate on \
+                      `SceneModel::covering(&[start])`, the model `plan` searches)"
+                    .into(),
+            });
+        }
         Ok(Feasibility {
             checker: check::Checker::new(model, problem, settings, lattice)?,
             caches: check::Caches::default(),

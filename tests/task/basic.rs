@@ -99,4 +99,29 @@ fn a_start_beyond_the_grid_padding_grows_the_grid() {
     );
     let v = kinscene::task::validate(&model, &problem, &p.steps, &settings).unwrap();
     assert!(v.valid, "{v:?}");
+
+    // The brute-force predicate borrows its model and cannot grow it: on the model as given
+    // it names the remedy, and on the covering model it finds the planned move feasible.
+    let lattice = kinscene::task::Lattice::new(&model, &problem, &settings.lattice);
+    let err = kinscene::task::Feasibility::new(&model, &problem, &settings, &lattice)
+        .err()
+        .expect("a start off the automatic grid is refused by the borrowing predicate");
+    assert!(err.to_string().contains("covering"), "{err}");
+    let grown = model.covering(&problem.robot.start_point()).unwrap();
+    let lattice = kinscene::task::Lattice::new(&grown, &problem, &settings.lattice);
+    let mut f = kinscene::task::Feasibility::new(&grown, &problem, &settings, &lattice).unwrap();
+    let hinge = grown.joint_id("hinge").unwrap();
+    let to = lattice.values(hinge).len() - 1;
+    let start = vec![
+        lattice
+            .index_of(hinge, 0.0)
+            .expect("the closed door is on the lattice"),
+    ];
+    assert!(
+        matches!(
+            f.check(&start, hinge, to).unwrap(),
+            kinscene::task::MoveCheck::Feasible { .. }
+        ),
+        "opening the door fully is feasible from the grown grid's start"
+    );
 }

@@ -18,7 +18,7 @@ const ON_SURFACE: f64 = 1e-3;
 ///
 /// The gripper's fingertips reach past the tool origin along the approach; a grasp whose
 /// fingertips must stay out of the front backs the tool off by what this leaves short of
-/// their reach (see [`crate::motion::placement::ManipulationSettings::finger_clearance`]).
+/// their reach (the motion layer's `ManipulationSettings::finger_clearance`).
 ///
 /// # Errors
 /// [`Error::UnknownId`] for a foreign handle id.
