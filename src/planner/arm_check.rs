@@ -3,7 +3,7 @@
 
 use nalgebra::DVector;
 
-use super::step::StepContext;
+use super::step::{Contact, StepContext};
 use crate::kinematics::robot::{Exempt, RobotConfig};
 use crate::motion::placement::Obstacle;
 use crate::scene::SceneData;
@@ -40,11 +40,11 @@ impl ArmCheck<'_> {
         })
     }
 
-    /// What the robot touches at `q`, in words with URDF names (`None` if it is valid).
-    pub(super) fn hit(&self, q: &[f64]) -> Option<String> {
+    /// What the robot touches at `q`, with URDF names (`None` if it is valid).
+    pub(super) fn hit(&self, q: &[f64]) -> Option<Contact> {
         let ctx = self.ctx;
         let Some(poses) = self.poses(q) else {
-            return Some("the arm configuration has no pose".to_owned());
+            return Some(Contact::NoPose);
         };
         Obstacle::at(
             ctx.robot,
@@ -55,12 +55,14 @@ impl ArmCheck<'_> {
             self.exempt,
             self.margin,
         )
-        .map(|o| format!("{o} (margin {:.0} mm)", 1000.0 * self.margin))
+        .map(|obstacle| Contact::Touches {
+            obstacle,
+            margin: self.margin,
+        })
     }
 
     /// [`ArmCheck::hit`], or that nothing was found.
-    pub(super) fn describe(&self, q: &[f64]) -> String {
-        self.hit(q)
-            .unwrap_or_else(|| "no collision found".to_owned())
+    pub(super) fn describe(&self, q: &[f64]) -> Contact {
+        self.hit(q).unwrap_or(Contact::Unnamed)
     }
 }

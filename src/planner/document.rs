@@ -42,7 +42,10 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{MotionOutcome, MotionPlan, PlannerResult, StepFailure, StepMotion, StepTiming};
+use super::{
+    Check, FailedSegment, MotionOutcome, MotionPlan, PlannerResult, StepFailure, StepMotion,
+    StepTiming,
+};
 use crate::motion::timing::TimedPath;
 use crate::task::{Outcome, PlanFile, PlanResult, PlanStatus};
 
@@ -160,7 +163,45 @@ pub struct MotionDocument {
     pub motion: Vec<StepDocument>,
     /// Moves the motion layer vetoed.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub vetoes: Vec<StepFailure>,
+    pub vetoes: Vec<VetoDocument>,
+}
+
+/// A vetoed move in a [`MotionDocument`]: a [`StepFailure`] with its reason rendered to text.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct VetoDocument {
+    /// Index of the step in the task plan tried.
+    pub step: usize,
+    /// The joint moved.
+    pub joint: String,
+    /// Its value before the step.
+    pub from: f64,
+    /// Its target value.
+    pub to: f64,
+    /// The check that failed.
+    pub check: Check,
+    /// Why, in one line ([`StepReason`](super::StepReason)'s text).
+    pub reason: String,
+    /// Where in a segmented step it failed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub segment: Option<FailedSegment>,
+}
+
+impl From<&StepFailure> for VetoDocument {
+    fn from(f: &StepFailure) -> Self {
+        VetoDocument {
+            step: f.step,
+            joint: f.joint.clone(),
+            from: f.from,
+            to: f.to,
+            check: f.check,
+            reason: f.reason.to_string(),
+            segment: f.segment,
+        }
+    }
+}
+
+fn vetoes(failures: &[StepFailure]) -> Vec<VetoDocument> {
+    failures.iter().map(VetoDocument::from).collect()
 }
 
 impl MotionDocument {
@@ -182,7 +223,7 @@ impl MotionDocument {
                     stats,
                 });
                 file.reason = Some(why.to_string());
-                (file, Vec::new(), why.vetoes.clone(), 0.0)
+                (file, Vec::new(), vetoes(&why.vetoes), 0.0)
             }
             MotionOutcome::Timeout(progress) | MotionOutcome::Cancelled(progress) => {
                 let file = PlanFile {
@@ -197,7 +238,7 @@ impl MotionDocument {
                     conflicts: Vec::new(),
                     stats: Some(stats),
                 };
-                (file, Vec::new(), progress.vetoes.clone(), 0.0)
+                (file, Vec::new(), vetoes(&progress.vetoes), 0.0)
             }
         };
         MotionDocument {

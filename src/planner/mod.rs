@@ -67,14 +67,17 @@ mod step;
 mod timed;
 mod veto;
 
-pub use document::{MotionDocument, StepDocument};
+pub use document::{MotionDocument, StepDocument, VetoDocument};
 pub use outcome::{
     MotionInfeasibility, MotionOutcome, MotionPlan, PlannerResult, Progress, RefineOutcome,
     StopPoint,
 };
 pub use reach::arm_reach;
 pub use settings::PlannerSettings;
-pub use step::{Check, FailedSegment, StepFailure, StepMotion, StepTiming};
+pub use step::{
+    Check, Contact, FailedSegment, PlacementShortfall, SegmentMiss, SegmentTry, SplitMiss,
+    StepFailure, StepMotion, StepPath, StepReason, StepTiming,
+};
 
 use std::sync::Mutex;
 use std::time::Instant;
@@ -346,7 +349,9 @@ impl HierarchicalPlanner {
                     from: state.value_by_name(model, &s.joint)?,
                     to: s.to,
                     check: Check::Stopped,
-                    reason: "before the step began".into(),
+                    reason: StepReason::Stopped {
+                        when: "before the step began",
+                    },
                     segment: None,
                 }));
             }

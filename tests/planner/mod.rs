@@ -9,8 +9,8 @@ use std::time::Duration;
 use kinscene::kinematics::pinocchio::{Data, forward_kinematics, frame_placement};
 use kinscene::kinematics::robot::{Exempt, RobotCollision, RobotConfig, RobotModel};
 use kinscene::planner::{
-    Check, HierarchicalPlanner, MotionDocument, MotionInfeasibility, MotionOutcome, PlannerError,
-    PlannerSettings, RefineOutcome,
+    Check, Contact, HierarchicalPlanner, MotionDocument, MotionInfeasibility, MotionOutcome,
+    PlannerError, PlannerSettings, RefineOutcome, StepPath, StepReason,
 };
 use kinscene::scene::motion::grasp_trajectory;
 use kinscene::scene::nav::{GridBounds, NavGridSettings};
@@ -368,6 +368,26 @@ fn a_given_order_is_refined_once_and_a_baseline_order_that_does_not_refine_is_in
         RefineOutcome::Infeasible(f) => {
             assert_eq!(f.step, 0);
             assert_eq!(f.check, Check::BasePath, "{f}");
+            // The reason is data about the base path: no path, or a named contact on it.
+            assert!(
+                matches!(
+                    &f.reason,
+                    StepReason::NoPath {
+                        path: StepPath::Base,
+                        ..
+                    } | StepReason::PathStopped {
+                        path: StepPath::Base,
+                        ..
+                    } | StepReason::Collision {
+                        path: StepPath::Base,
+                        contact: Contact::Touches { .. },
+                        ..
+                    }
+                ),
+                "{:?}",
+                f.reason
+            );
+            assert!(f.to_string().ends_with(&f.reason.to_string()), "{f}");
         }
         other => panic!("expected the base path to fail, got {other:?}"),
     }

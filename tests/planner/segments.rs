@@ -20,7 +20,7 @@ use std::time::{Duration, Instant};
 use kinscene::kinematics::robot::RobotModel;
 use kinscene::planner::{
     Check, HierarchicalPlanner, MotionDocument, MotionOutcome, MotionPlan, PlannerError,
-    PlannerResult, PlannerSettings,
+    PlannerResult, PlannerSettings, StepReason,
 };
 use kinscene::scene::SceneModel;
 use kinscene::task::{LatticeSettings, Problem, TaskSettings, Termination};
@@ -226,6 +226,14 @@ fn with_one_segment_the_wide_door_fails_on_the_placement() {
         assert_eq!(v.check, Check::Placement, "{v}");
         assert_eq!(v.segment, None, "{v}");
         assert_eq!((v.from, v.to), (0.0, FRAC_PI_2), "{v}");
+        // The placement's shortfall as data: fewer waypoints reached than placed, and the
+        // first one missed with its cause.
+        let StepReason::Placement(s) = &v.reason else {
+            panic!("expected a placement shortfall, got {:?}", v.reason)
+        };
+        assert!(s.reached < s.waypoints, "{s:?}");
+        let (i, _) = s.first.as_ref().expect("a waypoint is missed");
+        assert!(*i < s.waypoints, "{s:?}");
     }
 }
 

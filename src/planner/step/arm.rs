@@ -1,10 +1,11 @@
 //! The arm's phases of a step: the straight approach and retreat along the handle's normal,
 //! the free paths to and from the stowed configuration, and the manipulation's re-check.
 
+use super::StepReason;
 use super::refine::{ArmPaths, Placed, StepRefinement};
-use super::{Check, Failed, check_manipulation, describe};
+use super::{Check, Failed, StepPath, check_manipulation, path_or_reason};
 use crate::kinematics::robot::Exempt;
-use crate::motion::paths::{PathOutcome, first_invalid, plan_arm};
+use crate::motion::paths::{first_invalid, plan_arm};
 use crate::planner::PlannerError;
 use crate::planner::arm_check::ArmCheck;
 use crate::scene::{SceneData, forward_kinematics};
@@ -16,19 +17,22 @@ impl StepRefinement<'_, '_> {
         path: &[Vec<f64>],
         arm: &ArmCheck<'_>,
         check: Check,
-        what: &str,
+        which: StepPath,
     ) -> Option<Failed> {
         first_invalid(path, self.ctx.settings.arm_check_resolution, false, &|q| {
             arm.valid(q)
         })
-        .map(|(seg, at)| {
+        .map(|(segment, at)| {
+            let contact = arm.describe(&at);
             self.fail(
                 check,
-                format!(
-                    "dense re-check: segment {seg} of the straight {what} along the handle's \
-                     normal: {}",
-                    arm.describe(&at)
-                ),
+                StepReason::Collision {
+                    path: which,
+                    segment,
+                    at,
+                    scene_joint: None,
+                    contact,
+                },
             )
         })
     }
@@ -40,7 +44,7 @@ impl StepRefinement<'_, '_> {
         to: &[f64],
         arm: &ArmCheck<'_>,
         check: Check,
-        what: &str,
+        which: StepPath,
     ) -> Result<Result<Vec<Vec<f64>>, Failed>, PlannerError> {
         let ctx = self.ctx;
         let (lower, upper) = ctx.robot.arm_bounds();
@@ -53,25 +57,29 @@ impl StepRefinement<'_, '_> {
             &ctx.settings.paths,
             ctx.termination,
         )?;
-        let path = match outcome {
-            PathOutcome::Solved(p) => p,
-            other => {
+        let path = match path_or_reason(outcome, which) {
+            Ok(p) => p,
+            Err(reason) => {
                 let check = if ctx.termination.should_stop() {
                     Check::Stopped
                 } else {
                     check
                 };
-                return Ok(Err(self.fail(check, describe(&other, what))));
+                return Ok(Err(self.fail(check, reason)));
             }
         };
         let resolution = ctx.settings.arm_check_resolution;
-        if let Some((seg, at)) = first_invalid(&path, resolution, false, &|q| arm.valid(q)) {
+        if let Some((segment, at)) = first_invalid(&path, resolution, false, &|q| arm.valid(q)) {
+            let contact = arm.describe(&at);
             return Ok(Err(self.fail(
                 check,
-                format!(
-                    "dense re-check: segment {seg} of the {what}: {}",
-                    arm.describe(&at)
-                ),
+                StepReason::Collision {
+                    path: which,
+                    segment,
+                    at,
+                    scene_joint: None,
+                    contact,
+                },
             )));
         }
         Ok(Ok(path))
@@ -104,7 +112,7 @@ impl StepRefinement<'_, '_> {
             inward,
             &self.arm(base, &self.data, grasp),
             Check::Approach,
-            "approach",
+            StepPath::StraightIn,
         ) {
             return Ok(Err(f));
         }
@@ -114,7 +122,7 @@ impl StepRefinement<'_, '_> {
             &inward[0],
             &free_before,
             Check::Approach,
-            "arm approach",
+            StepPath::ArmToPregrasp,
         )? {
             Ok(p) => p,
             Err(f) => return Ok(Err(f)),
@@ -138,7 +146,7 @@ impl StepRefinement<'_, '_> {
             outward,
             &self.arm(base, &data_after, grasp),
             Check::Retreat,
-            "retreat",
+            StepPath::StraightOut,
         ) {
             return Ok(Err(f));
         }
@@ -148,7 +156,7 @@ impl StepRefinement<'_, '_> {
             stow,
             &self.arm(base, &data_after, Exempt::Nothing),
             Check::Retreat,
-            "arm retreat",
+            StepPath::ArmToStow,
         )? {
             Ok(p) => p,
             Err(f) => return Ok(Err(f)),

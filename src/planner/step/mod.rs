@@ -34,9 +34,14 @@
 //! acceleration limits.
 
 mod arm;
+mod reason;
 mod refine;
 mod segment;
 mod timing;
+
+pub use reason::{
+    Contact, PlacementShortfall, SegmentMiss, SegmentTry, SplitMiss, StepPath, StepReason,
+};
 
 pub(super) use segment::refine;
 
@@ -89,7 +94,7 @@ impl fmt::Display for Check {
 }
 
 /// A step that could not be refined: which step, which check, why.
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct StepFailure {
     /// Index of the step in the task plan tried.
     pub step: usize,
@@ -101,11 +106,10 @@ pub struct StepFailure {
     pub to: f64,
     /// The check that failed.
     pub check: Check,
-    /// Why, in one line.
-    pub reason: String,
+    /// Why: the phase, the bodies by URDF name, the values (its `Display` is one line).
+    pub reason: StepReason,
     /// Where in a segmented step it failed; `None` when the step was being refined as one
     /// segment (its placement, or the phases from the one base pose that covers it).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub segment: Option<FailedSegment>,
 }
 
@@ -242,8 +246,8 @@ fn check_manipulation(
     joint: JointId,
     step: &Step,
     waypoints: &[Vec<f64>],
-    hit: &dyn Fn(&SceneData, &[f64]) -> Option<String>,
-) -> Result<Option<String>, PlannerError> {
+    hit: &dyn Fn(&SceneData, &[f64]) -> Option<Contact>,
+) -> Result<Option<StepReason>, PlannerError> {
     let model = ctx.model;
     let k = waypoints.len().saturating_sub(1).max(1);
     let mut data = SceneData::new(model);
@@ -267,14 +271,17 @@ fn check_manipulation(
             }
             let t = j as f64 / n as f64;
             let q: Vec<f64> = a.iter().zip(b).map(|(x, y)| x + (y - x) * t).collect();
-            s.set(model, joint, va + (vb - va) * t)?;
+            let v = va + (vb - va) * t;
+            s.set(model, joint, v)?;
             forward_kinematics(model, &mut data, &s)?;
-            if let Some(what) = hit(&data, &q) {
-                return Ok(Some(format!(
-                    "between waypoints {i} and {} (scene joint at {:.4}): {what}",
-                    i + 1,
-                    va + (vb - va) * t
-                )));
+            if let Some(contact) = hit(&data, &q) {
+                return Ok(Some(StepReason::Collision {
+                    path: StepPath::Manipulation,
+                    segment: i,
+                    at: q,
+                    scene_joint: Some(v),
+                    contact,
+                }));
             }
         }
     }
@@ -311,11 +318,18 @@ fn same_pose(a: &[f64; 3], b: &[f64; 3]) -> bool {
     (a[0] - b[0]).abs() < 1e-9 && (a[1] - b[1]).abs() < 1e-9 && (a[2] - b[2]).abs() < 1e-9
 }
 
-fn describe(outcome: &PathOutcome, what: &str) -> String {
+/// The path of a path query, or why it returned none.
+fn path_or_reason(outcome: PathOutcome, path: StepPath) -> Result<Vec<Vec<f64>>, StepReason> {
     match outcome {
-        PathOutcome::Solved(_) => format!("{what}: found"),
-        PathOutcome::Infeasible(why) => format!("no {what} path: {why}"),
-        PathOutcome::Timeout(()) => format!("no {what} path within the budget"),
-        PathOutcome::Cancelled(()) => format!("{what}: cancelled"),
+        PathOutcome::Solved(p) => Ok(p),
+        PathOutcome::Infeasible(failure) => Err(StepReason::NoPath { path, failure }),
+        PathOutcome::Timeout(()) => Err(StepReason::PathStopped {
+            path,
+            cancelled: false,
+        }),
+        PathOutcome::Cancelled(()) => Err(StepReason::PathStopped {
+            path,
+            cancelled: true,
+        }),
     }
 }

@@ -4,16 +4,17 @@
 use nalgebra::DVector;
 
 use super::{
-    Check, Failed, FailedSegment, StepContext, StepMotion, StepTiming, describe, grasped,
-    grid_bounds, same_pose,
+    Check, Contact, Failed, FailedSegment, StepContext, StepMotion, StepPath, StepReason,
+    StepTiming, grasped, grid_bounds, path_or_reason, same_pose,
 };
 use crate::kinematics::robot::{Exempt, RobotConfig};
-use crate::motion::paths::{PathOutcome, first_invalid, plan_base};
+use crate::motion::paths::{first_invalid, plan_base};
 use crate::motion::placement::{
-    JointMotion, PlacementOutcome, PlacementProblem, PlacementSettings, place_and_plan,
+    JointMotion, Obstacle, PlacementOutcome, PlacementProblem, PlacementSettings, place_and_plan,
 };
 use crate::planner::arm_check::ArmCheck;
 use crate::planner::{PlannerError, StepFailure};
+use crate::scene::collision::Body;
 use crate::scene::{HandleId, JointId, PartId, SceneData, State, forward_kinematics};
 use crate::task::Step;
 
@@ -111,7 +112,7 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
     }
 
     /// A failure without known causes: every joint may matter.
-    pub(super) fn fail(&self, check: Check, reason: String) -> Failed {
+    pub(super) fn fail(&self, check: Check, reason: StepReason) -> Failed {
         let failure = StepFailure {
             step: self.index,
             joint: self.task_step.joint.clone(),
@@ -226,23 +227,36 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
     /// Whether the robot at base pose `b` with the arm stowed is clear of the scene at the
     /// step's start state.
     pub(super) fn base_valid(&self, b: &[f64; 3]) -> bool {
+        matches!(self.base_hit(b), Ok(None))
+    }
+
+    /// What the stowed robot at base pose `b` touches in the step's start state (`Err`: the
+    /// pose has no link poses).
+    fn base_hit(&self, b: &[f64; 3]) -> Result<Option<(usize, Body)>, ()> {
         let ctx = self.ctx;
         let cfg = RobotConfig {
             base: *b,
             arm: ctx.stow.clone(),
         };
-        match ctx.robot.link_poses(&cfg) {
-            Ok(poses) => ctx
-                .collision
-                .scene_collision(
-                    &poses,
-                    ctx.model,
-                    &self.data,
-                    Exempt::Nothing,
-                    ctx.settings.margin,
-                )
-                .is_none(),
-            Err(_) => false,
+        let poses = ctx.robot.link_poses(&cfg).map_err(|_| ())?;
+        Ok(ctx.collision.scene_collision(
+            &poses,
+            ctx.model,
+            &self.data,
+            Exempt::Nothing,
+            ctx.settings.margin,
+        ))
+    }
+
+    /// [`Self::base_hit`] as a named contact.
+    fn base_contact(&self, b: &[f64; 3]) -> Contact {
+        match self.base_hit(b) {
+            Ok(Some(hit)) => Contact::Touches {
+                obstacle: Obstacle::scene(self.ctx.robot, self.ctx.model, hit),
+                margin: self.ctx.settings.margin,
+            },
+            Ok(None) => Contact::Unnamed,
+            Err(()) => Contact::NoPose,
         }
     }
 
@@ -259,22 +273,23 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
         let base_path = if same_pose(&from, &to) {
             vec![from.to_vec(), to.to_vec()]
         } else {
-            match plan_base(
+            let outcome = plan_base(
                 from,
                 to,
                 grid_bounds(ctx.model),
                 &base_valid,
                 &settings.paths,
                 ctx.termination,
-            )? {
-                PathOutcome::Solved(p) => p,
-                other => {
+            )?;
+            match path_or_reason(outcome, StepPath::Base) {
+                Ok(p) => p,
+                Err(reason) => {
                     let check = if ctx.termination.should_stop() {
                         Check::Stopped
                     } else {
                         Check::BasePath
                     };
-                    return Ok(Err(self.fail(check, describe(&other, "base"))));
+                    return Ok(Err(self.fail(check, reason)));
                 }
             }
         };
@@ -284,20 +299,22 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
             .map(|p| vec![p[0], p[1], p[2] * radius])
             .collect();
         let base_valid_scaled = |p: &[f64]| self.base_valid(&[p[0], p[1], p[2] / radius]);
-        if let Some((seg, at)) = first_invalid(
+        if let Some((segment, at)) = first_invalid(
             &scaled,
             settings.base_check_resolution,
             false,
             &base_valid_scaled,
         ) {
+            let pose = [at[0], at[1], at[2] / radius];
             return Ok(Err(self.fail(
                 Check::BasePath,
-                format!(
-                    "dense re-check: segment {seg} collides at ({:.3}, {:.3}, {:.3})",
-                    at[0],
-                    at[1],
-                    at[2] / radius
-                ),
+                StepReason::Collision {
+                    path: StepPath::Base,
+                    segment,
+                    at: pose.to_vec(),
+                    scene_joint: None,
+                    contact: self.base_contact(&pose),
+                },
             )));
         }
         Ok(Ok(base_path))

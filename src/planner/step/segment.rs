@@ -5,10 +5,13 @@
 use std::collections::BTreeSet;
 
 use super::refine::{Placed, StepRefinement};
-use super::{Check, Failed, FailedSegment, StepContext, StepMotion, first_handle_name};
+use super::{
+    Check, Failed, FailedSegment, PlacementShortfall, SegmentMiss, SegmentTry, SplitMiss,
+    StepContext, StepMotion, StepReason, first_handle_name,
+};
 use crate::kinematics::robot::RobotConfig;
 use crate::motion::placement::{
-    PlacementMethod, PlacementObjective, PlacementOutcome, placement_motion, plan_manipulation,
+    PlacementMethod, PlacementObjective, placement_motion, plan_manipulation,
 };
 use crate::planner::PlannerError;
 use crate::scene::{HandleId, JointId, PartId, State};
@@ -60,7 +63,12 @@ pub(in crate::planner) fn refine(
         });
         let r = StepRefinement::new(ctx, index, step, &segment, label, joint, &state)?;
         if ctx.termination.should_stop() {
-            return Ok(Err(r.fail(Check::Stopped, "after base placement".into())));
+            return Ok(Err(r.fail(
+                Check::Stopped,
+                StepReason::Stopped {
+                    when: "after base placement",
+                },
+            )));
         }
         let motion = match r.execute(&handle_name, &placed, base)? {
             Ok(m) => m,
@@ -119,35 +127,45 @@ impl Segments<'_, '_> {
                 self.step.to,
             )));
         }
-        let why = placement_reason(&whole);
+        let why = PlacementShortfall::of(&whole);
         if i + 1 >= max {
             let reason = if i == 0 {
-                why
+                StepReason::Placement(why)
             } else {
-                format!(
-                    "{i} segment(s) refined up to {from:.4}, and no base pose covers the rest \
-                     within max_segments = {max}: {why}"
-                )
+                StepReason::SegmentsExhausted {
+                    refined: i,
+                    up_to: from,
+                    max_segments: max,
+                    rest: why,
+                }
             };
             return Ok(Err(self.placement_failure(&r, reason)));
         }
         if ctx.termination.should_stop() {
-            return Ok(Err(r.fail(Check::Stopped, "after base placement".into())));
+            return Ok(Err(r.fail(
+                Check::Stopped,
+                StepReason::Stopped {
+                    when: "after base placement",
+                },
+            )));
         }
         match self.split(&r, base)? {
             Ok(next) => Ok(Ok(next)),
-            Err(_) if ctx.termination.should_stop() => Ok(Err(
-                r.fail(Check::Stopped, "while choosing where to regrasp".into())
-            )),
+            Err(_) if ctx.termination.should_stop() => Ok(Err(r.fail(
+                Check::Stopped,
+                StepReason::Stopped {
+                    when: "while choosing where to regrasp",
+                },
+            ))),
             Err(split) => {
-                let reason = format!("{why}; segmenting: {split}");
+                let reason = StepReason::NoSegment { whole: why, split };
                 Ok(Err(self.placement_failure(&r, reason)))
             }
         }
     }
 
     /// A placement failure of `r` that depends on the parts in `causes`.
-    fn placement_failure(&self, r: &StepRefinement<'_, '_>, reason: String) -> Failed {
+    fn placement_failure(&self, r: &StepRefinement<'_, '_>, reason: StepReason) -> Failed {
         let (failure, _) = r.fail(Check::Placement, reason);
         (failure, Some(self.causes.iter().copied().collect()))
     }
@@ -159,7 +177,7 @@ impl Segments<'_, '_> {
         &mut self,
         r: &StepRefinement<'_, '_>,
         base: [f64; 3],
-    ) -> Result<Result<(Placed, f64), String>, PlannerError> {
+    ) -> Result<Result<(Placed, f64), SplitMiss>, PlannerError> {
         let ctx = self.ctx;
         let settings = &ctx.settings.placement;
         let mut prefix_settings = settings.clone();
@@ -178,11 +196,10 @@ impl Segments<'_, '_> {
             .map(|e| e.min(steps.saturating_sub(1)))
             .filter(|e| *e >= 1);
         let Some(last) = last else {
-            return Ok(Err(format!(
-                "from no base pose does the arm follow the motion past its first waypoint \
-                 (the best reaches {reached} of {} waypoints in a row from the pre-grasp)",
-                motion.len()
-            )));
+            return Ok(Err(SplitMiss::NoPrefix {
+                reached,
+                waypoints: motion.len(),
+            }));
         };
         let mut tried = Vec::new();
         for e in candidate_ends(last) {
@@ -214,7 +231,7 @@ impl Segments<'_, '_> {
                 )));
             }
             if ctx.termination.should_stop() {
-                return Ok(Err("stopped while choosing a segment".into()));
+                return Ok(Err(SplitMiss::Stopped));
             }
             let placed = s.placement(self.handle, base, settings)?;
             self.causes.extend(placed.obstacle_parts.iter().copied());
@@ -225,17 +242,17 @@ impl Segments<'_, '_> {
                 )));
             }
             let why = if placed.is_complete() {
-                "its base pose is not clear for the stowed robot".to_owned()
+                SegmentMiss::BaseNotClear
             } else {
-                placement_reason(&placed)
+                SegmentMiss::Placement(PlacementShortfall::of(&placed))
             };
-            tried.push(format!("{end:.4} ({why})"));
+            tried.push(SegmentTry { end, why });
         }
-        Ok(Err(format!(
-            "the longest reached prefix ends at waypoint {last} of {steps}, and no segment to \
-             {} is covered from one base pose",
-            tried.join(", or to ")
-        )))
+        Ok(Err(SplitMiss::Uncovered {
+            prefix_end: last,
+            intervals: steps,
+            tried,
+        }))
     }
 }
 
@@ -251,16 +268,6 @@ fn candidate_ends(last: usize) -> Vec<usize> {
         }
     }
     out
-}
-
-/// Why a placement does not cover its motion, in one line.
-fn placement_reason(p: &PlacementOutcome) -> String {
-    p.reason.clone().unwrap_or_else(|| {
-        format!(
-            "{:.0} % of the waypoints reached",
-            100.0 * p.reached_fraction
-        )
-    })
 }
 
 #[cfg(test)]
