@@ -287,7 +287,7 @@ impl HierarchicalPlanner {
                     failures.push(failure);
                 }
                 Refined::Stopped(step) => {
-                    let outcome = stopped(StopPoint::Refining(step), failures);
+                    let outcome = stopped(StopPoint::Refining(Box::new(step)), failures);
                     return Ok(rounds.result(outcome, result.stats));
                 }
             }

@@ -108,7 +108,7 @@ pub enum StopPoint {
     TaskSearch(Partial),
     /// Refining a step of an order: the step, with [`Check::Stopped`](super::Check::Stopped) and the phase it was
     /// in.
-    Refining(StepFailure),
+    Refining(Box<StepFailure>),
 }
 
 impl fmt::Display for StopPoint {

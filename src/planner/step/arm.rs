@@ -65,7 +65,7 @@ impl StepRefinement<'_, '_> {
                 } else {
                     check
                 };
-                return Ok(Err(self.fail(check, reason)));
+                return Ok(Err(self.fail(check, *reason)));
             }
         };
         let resolution = ctx.settings.arm_check_resolution;

@@ -319,17 +319,17 @@ fn same_pose(a: &[f64; 3], b: &[f64; 3]) -> bool {
 }
 
 /// The path of a path query, or why it returned none.
-fn path_or_reason(outcome: PathOutcome, path: StepPath) -> Result<Vec<Vec<f64>>, StepReason> {
-    match outcome {
-        PathOutcome::Solved(p) => Ok(p),
-        PathOutcome::Infeasible(failure) => Err(StepReason::NoPath { path, failure }),
-        PathOutcome::Timeout(()) => Err(StepReason::PathStopped {
+fn path_or_reason(outcome: PathOutcome, path: StepPath) -> Result<Vec<Vec<f64>>, Box<StepReason>> {
+    Err(Box::new(match outcome {
+        PathOutcome::Solved(p) => return Ok(p),
+        PathOutcome::Infeasible(failure) => StepReason::NoPath { path, failure },
+        PathOutcome::Timeout(()) => StepReason::PathStopped {
             path,
             cancelled: false,
-        }),
-        PathOutcome::Cancelled(()) => Err(StepReason::PathStopped {
+        },
+        PathOutcome::Cancelled(()) => StepReason::PathStopped {
             path,
             cancelled: true,
-        }),
-    }
+        },
+    }))
 }

@@ -289,7 +289,7 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
                     } else {
                         Check::BasePath
                     };
-                    return Ok(Err(self.fail(check, reason)));
+                    return Ok(Err(self.fail(check, *reason)));
                 }
             }
         };
