@@ -2,18 +2,22 @@
 //! Reposition, the post-interaction observation, PredArticulation and the part to register.
 //! The rules are documented on [`discover`](super::discover).
 
-use nalgebra::{Isometry2, Isometry3, Point3, Unit, Vector2, Vector3};
+use nalgebra::{Isometry3, Point3, Unit, Vector2, Vector3};
 
 use super::error::{DiscoveryError, check_finite};
-use super::explore::{AttemptInput, attempt, checked_cloud, surface_normal};
+use super::explore::{checked_cloud, surface_normal};
 use super::fusion::MappedHandle;
-use super::interface::{HardwareFailure, LocalGoal, PointCloud, Robot};
-use super::log::{AttemptEnd, AttemptLog, Exploration, HandleLog, MotionClass, Stage};
+use super::interface::{PointCloud, Robot};
+use super::log::{Exploration, HandleLog, Stage};
 use super::part::{NewPart, Observed, new_part};
-use super::placement::{FreeSpace, horizontal, plan_base, shifted};
+use super::placement::{FreeSpace, horizontal, plan_base};
 use super::settings::DiscoverySettings;
 use crate::articulation::ArticulationEstimator;
 use crate::scene::{SceneModel, State};
+
+mod pull;
+
+use pull::pulled;
 
 /// A refined normal more than this far (rad) from the registered one is not trusted: 45°.
 const MAX_NORMAL_REFINEMENT: f64 = std::f64::consts::FRAC_PI_4;
@@ -50,17 +54,6 @@ impl From<DiscoveryError> for Stop {
 /// Stops the exploration: `stage` failed for `reason`.
 pub(super) fn fail<T>(stage: Stage, reason: impl Into<String>) -> Result<T, Stop> {
     Err(Stop::Failed(stage, reason.into()))
-}
-
-/// What the attempts left: the first grasp's pre-interaction observation and contact, the
-/// last contact, the end-effector poses, where each grasp's poses begin, and whether the last
-/// attempt succeeded.
-struct Attempts {
-    first: Option<(PointCloud, Point3<f64>)>,
-    contact_post: Option<Point3<f64>>,
-    ee_poses: Vec<(f64, Isometry3<f64>)>,
-    segments: Vec<usize>,
-    success: bool,
 }
 
 /// A successful exploration: the first grasp's pre-interaction observation and contact, the
@@ -270,184 +263,6 @@ impl Run<'_> {
         }
         Ok(Near::Missed { seen, nearest })
     }
-
-    /// The exploratory interaction at handle `p` (outward normal `normal`): up to
-    /// `max_attempts` attempts from `b_pre` until one succeeds, each logged in `entry`, with
-    /// Reposition between them. A retry grasps at the last contact (the part's path stays
-    /// that of one point, as the estimators assume), or, after a grasp that missed the handle,
-    /// where it is re-detected ([`Run::regrasp_target`]).
-    fn attempts(
-        &mut self,
-        entry: &mut HandleLog,
-        index: usize,
-        p: Point3<f64>,
-        normal: Unit<Vector3<f64>>,
-        mut b_pre: Isometry2<f64>,
-        free: &FreeSpace,
-    ) -> Result<Attempts, Stop> {
-        let s = self.s;
-        let mut hotspot = p;
-        let mut hot_normal = normal;
-        let mut out = Attempts {
-            first: None,
-            contact_post: None,
-            ee_poses: Vec::new(),
-            segments: Vec::new(),
-            success: false,
-        };
-        // Whether the last attempt's gripper closed where the handle was not.
-        let mut missed = false;
-        for k in 0..s.max_attempts {
-            let goal = LocalGoal {
-                target: hotspot,
-                world_from_base: b_pre,
-            };
-            if let Err(failure) = self.robot.navigate_local(&goal) {
-                entry
-                    .attempts
-                    .push(skipped(b_pre, AttemptEnd::Navigation { failure }));
-                continue;
-            }
-            if missed {
-                hotspot = self.regrasp_target(entry, index, k, hotspot)?;
-            }
-            let o_pre = match self.robot.observe(s.observation_camera) {
-                Ok(o) => o,
-                Err(e) => {
-                    let reason = e.to_string();
-                    entry
-                        .attempts
-                        .push(skipped(b_pre, AttemptEnd::Sensor { reason }));
-                    continue;
-                }
-            };
-            checked_cloud(&o_pre, "pre-interaction")?;
-            let input = AttemptInput {
-                o_pre: &o_pre,
-                hotspot,
-                normal: hot_normal,
-                world_from_base: b_pre,
-                first_grasp: out.first.as_ref().map(|(_, g)| *g),
-            };
-            let seg = out.ee_poses.len();
-            let result = attempt(&mut *self.robot, s, &input, &mut out.ee_poses)?;
-            if out.ee_poses.len() > seg {
-                out.segments.push(seg);
-            }
-            if let (None, Some(g)) = (&out.first, result.grasp) {
-                out.first = Some((o_pre.clone(), g));
-            }
-            if let Some(c) = result.contact {
-                hotspot = c;
-                out.contact_post = Some(c);
-            }
-            hot_normal = result.normal;
-            missed = matches!(
-                result.log.end,
-                AttemptEnd::Grasp {
-                    failure: HardwareFailure::GraspLost
-                }
-            );
-            let motion = result.log.motion;
-            out.success = result.log.end.is_success();
-            entry.attempts.push(result.log);
-            if let Err(f) = self.robot.retract() {
-                return fail(Stage::Exploration, format!("retract: {f}"));
-            }
-            if out.success {
-                break;
-            }
-            // Reposition.
-            b_pre = reposition(free, &b_pre, motion, &hotspot, s).unwrap_or(b_pre);
-        }
-        Ok(out)
-    }
-
-    /// The grasp point of attempt `k` (from 0) after an attempt whose gripper closed on no
-    /// handle at `last` (`GraspLost` at the grasp): the handle re-detected near `last`, else
-    /// `last` again. The handle was not where the gripper closed: a re-detection that landed
-    /// beyond the gripper's reach of it, or a part that moved on after the last contact
-    /// (under a pull step the arm could not follow, or settling after the release); the same
-    /// point would miss it again. A note records which.
-    fn regrasp_target(
-        &mut self,
-        entry: &mut HandleLog,
-        index: usize,
-        k: usize,
-        last: Point3<f64>,
-    ) -> Result<Point3<f64>, Stop> {
-        Ok(match self.detect_near(index, &last)? {
-            Near::Found(q) => {
-                entry.notes.push(format!(
-                    "attempt {}: the gripper missed the handle at the last grasp point; \
-                     re-detected {:.3} m from it",
-                    k + 1,
-                    (q - last).norm()
-                ));
-                q
-            }
-            Near::Missed { .. } | Near::Failed(_) => {
-                entry.notes.push(format!(
-                    "attempt {}: the gripper missed the handle at the last grasp point; not \
-                     re-detected within {} m of it, grasping there again",
-                    k + 1,
-                    self.s.redetect_radius
-                ));
-                last
-            }
-        })
-    }
-
-    /// Steps back from the handle at `p` (approach direction `dir`) to observe the part at
-    /// `contact_post`; when it cannot, a note says the observation is taken from where the
-    /// robot is.
-    fn step_back(
-        &mut self,
-        entry: &mut HandleLog,
-        p: &Point3<f64>,
-        dir: &Vector2<f64>,
-        contact_post: Point3<f64>,
-        free: &FreeSpace,
-    ) {
-        let s = self.s;
-        let back = plan_base(
-            free,
-            p,
-            dir,
-            s.interaction_distance + s.post_step_back,
-            s.base_search_radius,
-        );
-        match back {
-            Some(b_post) => {
-                let goal = LocalGoal {
-                    target: contact_post,
-                    world_from_base: b_post,
-                };
-                if let Err(f) = self.robot.navigate_local(&goal) {
-                    entry.notes.push(format!(
-                        "step back failed ({f}); observed from where the robot is"
-                    ));
-                }
-            }
-            None => entry
-                .notes
-                .push("no free step-back pose; observed from where the robot is".into()),
-        }
-    }
-
-    /// The horizontal direction from `p` to the robot's base (fallback approach direction).
-    fn toward_robot(&self, p: &Point3<f64>) -> Result<Vector2<f64>, DiscoveryError> {
-        let b = self.robot.base_pose();
-        check_finite(
-            b.translation
-                .vector
-                .iter()
-                .copied()
-                .chain([b.rotation.angle()]),
-            || "base pose".to_string(),
-        )?;
-        Ok(b.translation.vector - Vector2::new(p.x, p.y))
-    }
 }
 
 /// What DetectHandle found near an expected position.
@@ -458,72 +273,4 @@ enum Near {
     Missed { seen: usize, nearest: f64 },
     /// The detector failed (its message).
     Failed(String),
-}
-
-/// The attempts' outcome, with the pull distance recorded in `entry`: on success the first
-/// grasp and the last contact; otherwise a failure of navigation (when every attempt failed
-/// there) or of exploration, with the last attempt's end.
-fn pulled(entry: &mut HandleLog, attempts: Attempts) -> Result<Pulled, Stop> {
-    if let (Some((_, g)), Some(c)) = (&attempts.first, attempts.contact_post) {
-        entry.pull_distance = (c - g).norm();
-    }
-    let (Some((o_first, contact_pre)), Some(contact_post), true) =
-        (attempts.first, attempts.contact_post, attempts.success)
-    else {
-        let stage = if entry
-            .attempts
-            .iter()
-            .all(|a| matches!(a.end, AttemptEnd::Navigation { .. }))
-        {
-            Stage::Navigation
-        } else {
-            Stage::Exploration
-        };
-        let reason = entry
-            .attempts
-            .last()
-            .map(|a| format!("{} attempts; last: {:?}", entry.attempts.len(), a.end))
-            .unwrap_or_else(|| "no attempt".into());
-        return fail(stage, reason);
-    };
-    Ok(Pulled {
-        o_first,
-        contact_pre,
-        contact_post,
-        ee_poses: attempts.ee_poses,
-        segments: attempts.segments,
-    })
-}
-
-/// The log entry of an attempt that did not get to the grasp.
-fn skipped(world_from_base: Isometry2<f64>, end: AttemptEnd) -> AttemptLog {
-    AttemptLog {
-        world_from_base,
-        steps: 0,
-        pull_distance: 0.0,
-        displacement: None,
-        rotation: 0.0,
-        motion: MotionClass::NoMotion,
-        end,
-    }
-}
-
-/// Reposition: the new pre-interaction pose after a failed attempt (see
-/// [`discover`](super::discover)).
-fn reposition(
-    free: &FreeSpace,
-    b_pre: &Isometry2<f64>,
-    motion: MotionClass,
-    hotspot: &Point3<f64>,
-    s: &DiscoverySettings,
-) -> Option<Isometry2<f64>> {
-    let d = s.reposition_distance;
-    let in_base = match motion {
-        MotionClass::RevoluteLeft => Vector2::new(0.0, d),
-        MotionClass::RevoluteRight => Vector2::new(0.0, -d),
-        MotionClass::Prismatic | MotionClass::RevoluteHorizontal => Vector2::new(-d, 0.0),
-        MotionClass::NoMotion => Vector2::zeros(),
-    };
-    let shift = b_pre.rotation * in_base;
-    shifted(free, b_pre, &shift, hotspot)
 }
