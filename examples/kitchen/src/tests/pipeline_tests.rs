@@ -1,4 +1,4 @@
-//! Tests of the kitchen example's pipeline (owner: pipeline helper): the three stages end to
+//! Tests of the kitchen example's pipeline: the three stages end to
 //! end at reduced size, fault injection at high rates, determinism, and bad configurations.
 
 use crate::pipeline::{

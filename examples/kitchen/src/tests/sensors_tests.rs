@@ -1,5 +1,5 @@
-//! Tests of the kitchen example's simulated depth cameras and handle detector (owner: sensors
-//! helper): hand-built snapshots of parry shapes at known poses, whose hits follow from plane
+//! Tests of the kitchen example's simulated depth cameras and handle detector:
+//! hand-built snapshots of parry shapes at known poses, whose hits follow from plane
 //! geometry, plus the kitchen itself against a brute-force ray cast.
 
 use crate::sim::sensors::{

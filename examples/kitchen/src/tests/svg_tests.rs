@@ -1,4 +1,4 @@
-//! Tests of the kitchen example's pictures (owner: svg helper).
+//! Tests of the kitchen example's pictures.
 //!
 //! The pictures are checked as XML (a small well-formedness checker below: balanced tags,
 //! quoted attributes, escaped text), by counting the elements each body and plan step must
