@@ -158,6 +158,8 @@ impl HierarchicalPlanner {
         let mut settings = settings;
         settings.validate(&robot)?;
         let collision = RobotCollision::new(&robot)?;
+        // The task level must not rule out a move the motion layer can make in segments.
+        settings.task.manipulation.segments = settings.max_segments;
         if settings.task.manipulation.arm.is_none() {
             let standoff = collision.fingertip_reach(&robot).unwrap_or(0.0).max(0.0)
                 + settings.placement.manipulation.finger_clearance;

@@ -92,6 +92,19 @@ impl Default for CostWeights {
 /// most `max_normal_elevation` above or below horizontal (`|n_0.z| <= sin`, a side grasp);
 /// and `c` lies on the outward side of the handle at the start, `(c − p_0)_xy · n_0 >= 0`;
 /// with an [`arm`](Self::arm) reach, the arm can span every `p_k` from `c` too.
+///
+/// **Segments.** With [`segments`](Self::segments) `S >= 2` the robot may let go and grasp again
+/// from another base position during one move, so a cell that covers only a prefix of the motion is
+/// admissible too: `c` covers `p_0..=p_e` (each within the annulus and, with an arm reach,
+/// spanned), lies on the outward side at `p_0`, and the remaining waypoints `p_e..` (or from any
+/// `p_t`, `1 <= t <= e`) are covered by at most `S − 1` further *runs*: consecutive runs share
+/// their boundary waypoint (the regrasp), and each run is a stretch of waypoints `p_s..=p_t`
+/// covered from one cell that is free in the base map (inflated by the robot radius) and connected
+/// there to the robot's start, and on the outward side at `p_s`. The rule is a relaxation of what
+/// the motion layer can do (it ignores the parts and the paths between the runs' cells). Such a
+/// cell is exempt from the swept-footprint rule of the search (the robot leaves it before the part
+/// is done); the move's base cell, the robot's position for the next move's travel, is `c`, and it
+/// must still be connected to the start after the move.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ManipulationSettings {
     /// Smallest horizontal base-to-grasp distance (m). Default 0.25.
@@ -115,6 +128,15 @@ pub struct ManipulationSettings {
     /// The hierarchical planner fills it from its robot when it is `None`.
     #[serde(default)]
     pub arm: Option<ArmReach>,
+    /// The most base positions one move may use (see **Segments** above), `1..=1000`.
+    /// Default 1 (one base position per move, the paper's rule). The hierarchical planner
+    /// sets it to its `max_segments`.
+    #[serde(default = "one_segment")]
+    pub segments: usize,
+}
+
+fn one_segment() -> usize {
+    1
 }
 
 /// A conservative bound on where an arm can hold a handle, from the robot's geometry: the
@@ -229,6 +251,7 @@ impl Default for ManipulationSettings {
             max_normal_elevation: 1.0,
             steps: 16,
             arm: None,
+            segments: 1,
         }
     }
 }
@@ -393,6 +416,13 @@ impl TaskSettings {
             return Err(bad(
                 "manipulation.steps",
                 m.steps as f64,
+                "between 1 and 1000",
+            ));
+        }
+        if !(1..=1000).contains(&m.segments) {
+            return Err(bad(
+                "manipulation.segments",
+                m.segments as f64,
                 "between 1 and 1000",
             ));
         }

@@ -1,6 +1,8 @@
 //! Smallest cases of the search, with hand-derived expectations.
 
-use kinscene::scene::{Handle, Joint, Limits, PartSpec, SceneModel, SceneModelBuilder, Shape};
+use kinscene::scene::{
+    BaseShape, Handle, Joint, Limits, PartSpec, SceneModel, SceneModelBuilder, Shape,
+};
 use kinscene::task::{GoalSpec, NoRefinement, Outcome, Problem, TaskSettings, Termination, plan};
 use nalgebra::{Isometry3, Point3, Vector3};
 
@@ -124,4 +126,79 @@ fn a_start_beyond_the_grid_padding_grows_the_grid() {
         ),
         "opening the door fully is feasible from the grown grid's start"
     );
+}
+
+/// A panel sliding 2.4 m along +x (handle facing −y at height 0.35, from x = 0.2 to 2.6): no
+/// base position is within `reach_max` = 0.9 m of both ends (2.4 > 2 × 0.9), so with one base
+/// position per move the goal has no base pose. With two, the robot covers the first half
+/// from about (0.8, −0.5) and the second from about (2.0, −0.5): each within 0.9 m of its
+/// half's 1.2 m of travel (√(0.6² + 0.47²) ≈ 0.76 m) and on the handle's front side. The plan
+/// validates with the same settings, and its base position covers the motion's start only.
+/// A wall 0.3 m behind the track keeps the grid around the whole travel.
+#[test]
+fn a_long_slide_needs_two_base_positions() {
+    let mut b = SceneModelBuilder::new();
+    b.add_part(
+        PartSpec::on_base(
+            "panel",
+            Joint::prismatic(
+                "slide",
+                Point3::origin(),
+                Vector3::x(),
+                Limits::new(0.0, 2.4),
+            ),
+        )
+        .with_collider(
+            Shape::box_size(Vector3::new(0.4, 0.02, 0.7)),
+            Isometry3::translation(0.0, 0.0, 0.35),
+        )
+        .with_handle(Handle::new(
+            "panel_handle",
+            Point3::new(0.2, -0.03, 0.35),
+            -Vector3::y(),
+        )),
+    );
+    // A wall behind the track, from x = −1 to 3.6: the automatic grid spans it (plus 1 m).
+    b.add_base_shape(BaseShape::new(
+        "wall",
+        Shape::box_size(Vector3::new(4.6, 0.1, 1.0)),
+        Isometry3::translation(1.3, 0.3, 0.5),
+    ));
+    let model = b.build().unwrap();
+    let spec = GoalSpec::from_toml(
+        "[goal]\nslide = { min = 2.4 }\n[robot]\nbase = [0.8, -1.0, 0.0]\nradius = 0.2",
+    )
+    .unwrap();
+    let problem = Problem::from_spec(&model, &spec).unwrap();
+    let settings = |segments| {
+        let mut s = TaskSettings::default();
+        s.manipulation.segments = segments;
+        // No part-way value: the slide moves 0 → 2.4 in one move (with the default interior
+        // value 1.2 the search would split it into two moves itself).
+        s.lattice.interior_values = 0;
+        s
+    };
+    let one = settings(1);
+    let r = plan(&model, &problem, &one, &NoRefinement, &Termination::none()).unwrap();
+    assert!(
+        matches!(r.outcome, Outcome::Infeasible(_)),
+        "one base position cannot cover 2.4 m: {:?}",
+        r.outcome
+    );
+    let two = settings(2);
+    let r = plan(&model, &problem, &two, &NoRefinement, &Termination::none()).unwrap();
+    let Outcome::Solved(p) = r.outcome else {
+        panic!("expected a plan in two segments, got {:?}", r.outcome)
+    };
+    assert_eq!(p.steps.len(), 1, "{p:?}");
+    let [x, y, _] = p.steps[0].base.expect("a base pose");
+    // Within reach of the handle's start (0.2, −0.03) and out of reach of its end (2.6, −0.03).
+    assert!((x - 0.2).hypot(y + 0.03) <= 0.9 + 1e-9, "({x}, {y})");
+    assert!((x - 2.6).hypot(y + 0.03) > 0.9, "({x}, {y})");
+    let v = kinscene::task::validate(&model, &problem, &p.steps, &two).unwrap();
+    assert!(v.valid, "{v:?}");
+    // The validator's own segmented rule is the setting's: with one segment the same step
+    // breaks the base-pose rule.
+    let v = kinscene::task::validate(&model, &problem, &p.steps, &one).unwrap();
+    assert!(!v.valid, "{v:?}");
 }

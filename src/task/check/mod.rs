@@ -38,7 +38,7 @@ use super::lattice::Lattice;
 use super::plan::Cause;
 use super::reach::{ancestor_joints, sweep_contexts};
 use super::settings::TaskSettings;
-use crate::scene::nav::search::{Blocked, Disc};
+use crate::scene::nav::search::{Blocked, Disc, Flood};
 use crate::scene::nav::{NavGrid, occupancy};
 use crate::scene::{HandleId, JointId, SceneData, SceneModel, State, forward_kinematics};
 
@@ -104,6 +104,9 @@ pub(crate) struct Checker<'a> {
     pose_context: Vec<Vec<JointId>>,
     /// The robot disc of `NavGrid::inflate` on the base grid.
     disc: Disc,
+    /// The cells of the start's free component in the inflated base map (the parts left
+    /// out): where a segmented move may put the robot between its runs.
+    base_component: Vec<bool>,
 }
 
 impl<'a> Checker<'a> {
@@ -157,8 +160,13 @@ impl<'a> Checker<'a> {
             shape_context,
             pose_context,
             disc,
+            base_component: Vec::new(),
         };
         checker.start_cell = checker.locate_start(problem)?;
+        let free = Blocked::from_grid(&checker.base_blocked);
+        checker.base_component = Flood::new(&free, checker.start_cell)
+            .complete(&free)
+            .to_vec();
         Ok(checker)
     }
 

@@ -15,6 +15,12 @@ pub(super) struct RegionCell {
     pub(super) handle: HandleId,
     pub(super) actuation: f64,
     pub(super) yaw: f64,
+    /// The cell covers only a prefix of the motion, and the rest is covered by at most
+    /// `segments − 1` more runs from free cells ([`ManipulationSettings::segments`]); it is
+    /// exempt from the swept-footprint rule (the robot leaves it before the part is done).
+    ///
+    /// [`ManipulationSettings::segments`]: crate::task::ManipulationSettings::segments
+    pub(super) segmented: bool,
 }
 
 impl Checker<'_> {
@@ -67,7 +73,6 @@ impl Checker<'_> {
                 continue;
             }
             let p0 = traj[0].position;
-            let n0 = traj[0].normal;
             // Handle travel: the arc length r·|b − a| (r the grasp point's distance from the
             // axis, constant along the motion) or |b − a| for prismatic joints.
             let actuation = match self.model.joints()[joint.index()].kind {
@@ -89,28 +94,112 @@ impl Checker<'_> {
             let idx = |v: f64, o: f64, n: usize| {
                 (((v - o) / res).floor().max(0.0) as usize).min(n.saturating_sub(1))
             };
+            let covers = |c: nalgebra::Point2<f64>, p: &crate::scene::HandlePose| {
+                let d = (c.x - p.position.x).hypot(c.y - p.position.y);
+                d >= m.reach_min
+                    && d <= m.reach_max
+                    && m.arm
+                        .is_none_or(|arm| arm.admits([c.x, c.y], &p.position, &p.normal, 0.0))
+            };
+            let front = |c: nalgebra::Point2<f64>, p: &crate::scene::HandlePose| {
+                (c.x - p.position.x) * p.normal.x + (c.y - p.position.y) * p.normal.y >= 0.0
+            };
+            let last = traj.len() - 1;
+            // Segmented moves: per free cell, the run of waypoints it covers from each waypoint
+            // it covers on the front side; `ext[s]` the longest over the cells.
+            let mut ext: Vec<usize> = (0..=last).collect();
+            let mut prefixes: Vec<(usize, usize)> = Vec::new();
             for j in idx(y0, o.y, h)..=idx(y1, o.y, h) {
                 for i in idx(x0, o.x, w)..=idx(x1, o.x, w) {
+                    if grid.is_occupied(i, j) {
+                        continue;
+                    }
                     let c = grid.cell_center(i, j);
-                    let ok = traj.iter().all(|p| {
-                        let d = (c.x - p.position.x).hypot(c.y - p.position.y);
-                        d >= m.reach_min
-                            && d <= m.reach_max
-                            && m.arm.is_none_or(|arm| {
-                                arm.admits([c.x, c.y], &p.position, &p.normal, 0.0)
-                            })
-                    }) && (c.x - p0.x) * n0.x + (c.y - p0.y) * n0.y >= 0.0;
-                    if ok && !grid.is_occupied(i, j) {
+                    let cell = j * w + i;
+                    let cover: Vec<bool> = traj.iter().map(|p| covers(c, p)).collect();
+                    if cover.iter().all(|k| *k) && front(c, &traj[0]) {
                         out.push(RegionCell {
-                            cell: j * w + i,
+                            cell,
                             handle,
                             actuation,
                             yaw: (p0.y - c.y).atan2(p0.x - c.x),
+                            segmented: false,
+                        });
+                        continue;
+                    }
+                    if m.segments < 2 {
+                        continue;
+                    }
+                    let mut run_end = vec![0usize; last + 1];
+                    for k in (0..=last).rev() {
+                        run_end[k] = if k < last && cover[k] && cover[k + 1] {
+                            run_end[k + 1]
+                        } else {
+                            k
+                        };
+                    }
+                    if !self.base_component[cell] {
+                        continue;
+                    }
+                    for s in 0..last {
+                        if cover[s] && front(c, &traj[s]) {
+                            ext[s] = ext[s].max(run_end[s]);
+                        }
+                    }
+                    if cover[0] && front(c, &traj[0]) && run_end[0] > 0 {
+                        prefixes.push((cell, run_end[0]));
+                    }
+                }
+            }
+            if !prefixes.is_empty() {
+                let need = runs_needed(&ext);
+                for (cell, end) in prefixes {
+                    let rest = (1..=end).map(|t| need[t]).min().unwrap_or(usize::MAX);
+                    if rest < m.segments {
+                        let c = grid.cell_center(cell % w, cell / w);
+                        out.push(RegionCell {
+                            cell,
+                            handle,
+                            actuation,
+                            yaw: (p0.y - c.y).atan2(p0.x - c.x),
+                            segmented: true,
                         });
                     }
                 }
             }
         }
         Ok(out)
+    }
+}
+
+/// `need[s]`: the fewest runs that cover waypoints `s..=last` when a run from `s` can reach
+/// at most waypoint `ext[s]` (consecutive runs share their boundary waypoint, where the robot
+/// lets go and grasps again); 0 at `last`, `usize::MAX` when no cover exists.
+fn runs_needed(ext: &[usize]) -> Vec<usize> {
+    let last = ext.len() - 1;
+    let mut need = vec![usize::MAX; ext.len()];
+    need[last] = 0;
+    for s in (0..last).rev() {
+        need[s] = (s + 1..=ext[s])
+            .map(|t| need[t])
+            .min()
+            .unwrap_or(usize::MAX)
+            .saturating_add(1);
+    }
+    need
+}
+
+#[cfg(test)]
+mod tests {
+    use super::runs_needed;
+
+    #[test]
+    fn runs_cover_the_waypoints_greedily_and_gaps_are_never_covered() {
+        // 0..=4: a run from 0 reaches 2, from 2 reaches 4: two runs; from 1 reaches 3, then
+        // 3 reaches 4: two runs.
+        assert_eq!(runs_needed(&[2, 3, 4, 4, 4]), vec![2, 2, 1, 1, 0]);
+        // Nothing leaves waypoint 1: waypoints 0 and 1 have no cover.
+        assert_eq!(runs_needed(&[1, 1, 2])[0], usize::MAX);
+        assert_eq!(runs_needed(&[0]), vec![0]);
     }
 }

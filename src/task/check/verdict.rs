@@ -95,7 +95,7 @@ impl Checker<'_> {
         let after = self.cached_occupancy(caches, data, &after_key)?;
         let clear: Vec<&RegionCell> = region
             .iter()
-            .filter(|r| !before.blocked.cells[r.cell] && !swept.contains(r.cell))
+            .filter(|r| !before.blocked.cells[r.cell] && (r.segmented || !swept.contains(r.cell)))
             .collect();
         // The robot stands in the start's free component of this state (the start cell, or
         // the base cell of the move that led here, which had to be in it), so it can drive

@@ -57,7 +57,14 @@ impl Heuristic<'_> {
                 state.q[a.index()] = values[k % values.len()];
                 k /= values.len();
             }
-            for v in &inside {
+            // With segmented moves the move's base cell covers the grasp point's first
+            // position (the part at any lattice value), not necessarily its last.
+            let segmented = m.segments > 1;
+            for v in values {
+                let in_target = target.contains(*v);
+                if !(in_target || segmented) {
+                    continue;
+                }
                 state.q[joint.index()] = *v;
                 forward_kinematics(model, data, &state)?;
                 let world_from_part = data.world_from_parts()[part.id().index()];
@@ -77,7 +84,9 @@ impl Heuristic<'_> {
                                 match &m.arm {
                                     Some(arm) => {
                                         let span = arm.span([c.x, c.y], &p, &n);
-                                        *least_span = least_span.min(span);
+                                        if in_target {
+                                            *least_span = least_span.min(span);
+                                        }
                                         if span <= arm.radius + SLACK {
                                             member[cell] = true;
                                         }

@@ -14,7 +14,10 @@
 //!   reach_max]` of one of the part's handle positions with the joint at a lattice value
 //!   inside the target and its ancestors at any combination of lattice values, the handle
 //!   within the height band (the manipulation region holds the grasp point's last position,
-//!   in reach and in the band). With `D_j(x)` the straight-line distance from the centre of
+//!   in reach and in the band; with segmented moves,
+//!   [`ManipulationSettings::segments`](super::ManipulationSettings::segments) `>= 2`, the
+//!   base cell covers the grasp point's *first* position instead, so `C_j` takes the joint
+//!   at every lattice value). With `D_j(x)` the straight-line distance from the centre of
 //!   cell `x` to the nearest centre of a cell of `C_j` (grid paths are no shorter) and
 //!   `d(C_i, C_k)` the least such distance between the two sets, any remaining route from `x`
 //!   is at least `max_j D_j(x)` (it reaches every set) and at least `min_j D_j(x) + MST`, the

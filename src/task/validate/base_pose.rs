@@ -50,20 +50,55 @@ impl Replay<'_> {
                 }) && (x - p0.x) * n0.x + (y - p0.y) * n0.y >= 0.0
             })
         };
+        let runs = if m.segments > 1 {
+            Some(self.run_covers(&trajectories)?)
+        } else {
+            None
+        };
+        // Segmented moves (see `ManipulationSettings`): a cell covering a prefix of a
+        // trajectory from its front, the rest covered by at most `segments − 1` runs.
+        let segmented = |x: f64, y: f64| {
+            let Some(runs) = &runs else {
+                return false;
+            };
+            trajectories.iter().zip(runs).any(|(traj, run)| {
+                let (p0, n0) = (traj[0].position, traj[0].normal);
+                if (x - p0.x) * n0.x + (y - p0.y) * n0.y < 0.0 {
+                    return false;
+                }
+                let prefix = traj
+                    .iter()
+                    .take_while(|p| {
+                        let d = (x - p.position.x).hypot(y - p.position.y);
+                        d >= m.reach_min
+                            && d <= m.reach_max
+                            && m.arm
+                                .is_none_or(|arm| arm.admits([x, y], &p.position, &p.normal, 0.0))
+                    })
+                    .count();
+                prefix >= 2 && run.covered_after(prefix - 1, m.segments - 1)
+            })
+        };
         let before = self.free_at(state)?;
         let mut after_state = state.clone();
         after_state.q[joint.index()] = b;
         let after = self.free_at(&after_state)?;
         let swept = self.swept(state, joint, b)?;
         let grid = model.base_grid();
+        let whole = |c: usize| {
+            let p = grid.cell_center(c % grid.width(), c / grid.width());
+            in_region(p.x, p.y)
+        };
         let conditions = |c: usize| {
             [
                 !before.cells.blocked[c],
                 before.connected[c],
-                !swept.blocked[c],
+                // A segmented move's first base position is left before the part is done.
+                !swept.blocked[c] || !whole(c),
                 !after.cells.blocked[c] && after.connected[c],
             ]
         };
+        let in_region = |x: f64, y: f64| in_region(x, y) || segmented(x, y);
         const WHAT: [&str; 4] = [
             "is occupied before the move (inflated by the robot radius)",
             "is not connected to the robot's start before the move",
@@ -101,6 +136,80 @@ impl Replay<'_> {
              the move",
             s.joint, counts[0], counts[1], counts[2], counts[3]
         )))
+    }
+}
+
+/// Which waypoints of one grasp trajectory runs of the segmented rule can cover: per
+/// waypoint `t`, the waypoints a run from `t` reaches, over every free cell of the inflated
+/// base map connected to the start.
+pub(super) struct RunCovers {
+    /// `reach[t]`: the last waypoint some cell covers from `t` on (from its front at `t`);
+    /// `t` itself when none.
+    reach: Vec<usize>,
+}
+
+impl RunCovers {
+    /// Whether waypoints from some `t` in `1..=from` to the last are covered by at most
+    /// `runs` runs (breadth-first over the waypoints reached).
+    pub(super) fn covered_after(&self, from: usize, runs: usize) -> bool {
+        let last = self.reach.len() - 1;
+        let mut at: Vec<bool> = (0..=last).map(|t| t >= 1 && t <= from).collect();
+        if at[last] {
+            return true;
+        }
+        for _ in 0..runs {
+            let mut next = at.clone();
+            for (t, _) in at.iter().enumerate().filter(|(_, a)| **a) {
+                next[t..=self.reach[t]].fill(true);
+            }
+            if next[last] {
+                return true;
+            }
+            at = next;
+        }
+        false
+    }
+}
+
+impl Replay<'_> {
+    /// The [`RunCovers`] of each trajectory, by brute force over the whole grid.
+    fn run_covers(
+        &self,
+        trajectories: &[Vec<crate::scene::HandlePose>],
+    ) -> Result<Vec<RunCovers>, Error> {
+        let m = self.settings.manipulation;
+        let grid = self.model.base_grid();
+        let cells = super::cells::Cells::of(&grid.inflate(self.radius)?);
+        let connected = cells.reachable_from(self.start);
+        let mut out = Vec::with_capacity(trajectories.len());
+        for traj in trajectories {
+            let mut reach: Vec<usize> = (0..traj.len()).collect();
+            for c in (0..connected.len()).filter(|c| connected[*c]) {
+                let q = grid.cell_center(c % grid.width(), c / grid.width());
+                let covered: Vec<bool> = traj
+                    .iter()
+                    .map(|p| {
+                        let d = (q.x - p.position.x).hypot(q.y - p.position.y);
+                        d >= m.reach_min
+                            && d <= m.reach_max
+                            && m.arm.is_none_or(|arm| {
+                                arm.admits([q.x, q.y], &p.position, &p.normal, 0.0)
+                            })
+                    })
+                    .collect();
+                for (t, p) in traj.iter().enumerate() {
+                    let facing = (q.x - p.position.x) * p.normal.x
+                        + (q.y - p.position.y) * p.normal.y
+                        >= 0.0;
+                    if covered[t] && facing {
+                        let end = t + covered[t..].iter().take_while(|k| **k).count() - 1;
+                        reach[t] = reach[t].max(end);
+                    }
+                }
+            }
+            out.push(RunCovers { reach });
+        }
+        Ok(out)
     }
 }
 

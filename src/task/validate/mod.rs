@@ -94,6 +94,14 @@ pub struct Validation {
 ///      [`part_footprint`]s at values spaced so that no point moves more than half a cell,
 ///      inflated by `max(radius − resolution·√2, 0)` (see below);
 ///    - `c`'s cell is free and connected to the start cell in the state after the move;
+///
+///    With [`ManipulationSettings::segments`](super::ManipulationSettings::segments) `S >= 2`
+///    a `c` that covers only a prefix `p_0..=p_e` (`e >= 1`, from the front at `p_0`) is in
+///    the region too when some `p_t`, `1 <= t <= e`, starts at most `S − 1` runs covering the
+///    rest: each run covers `p_s..=p_u` from one cell of the inflated base map connected to
+///    the start cell, on the front side at `p_s` (brute force over every such cell, then a
+///    breadth-first pass over the waypoints); such a `c` is exempt from the swept-footprint
+///    condition;
 /// 5. **goal**: after the last step, [`Goal::is_satisfied`](super::Goal::is_satisfied);
 ///    `unmet` lists the goal joints outside their target.
 ///
