@@ -76,7 +76,7 @@ fn plan_once(
             Outcome::Infeasible(why) => {
                 let first = why.to_string();
                 let first = first.lines().next().unwrap_or_default();
-                (format!("infeasible ({first:.70})"), seconds, 0, None)
+                (format!("infeasible ({first})"), seconds, 0, None)
             }
             Outcome::Timeout(_) => ("timeout".into(), seconds, 0, None),
             Outcome::Cancelled(_) => ("cancelled".into(), seconds, 0, None),

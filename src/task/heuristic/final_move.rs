@@ -50,6 +50,9 @@ impl Heuristic<'_> {
             (((v - o) / res).floor().max(0.0) as usize).min(n.saturating_sub(1))
         };
         let mut member = vec![false; w * h];
+        // Whether a cell serves a position inside the target: the last run of a segmented
+        // move holds one, so without such a cell no move meets the target either way.
+        let mut any_final = false;
         let mut state: State = self.problem.start.clone();
         for mut k in 0..combinations {
             for a in &ancestors {
@@ -89,15 +92,22 @@ impl Heuristic<'_> {
                                         }
                                         if span <= arm.radius + SLACK {
                                             member[cell] = true;
+                                            any_final |= in_target;
                                         }
                                     }
-                                    None => member[cell] = true,
+                                    None => {
+                                        member[cell] = true;
+                                        any_final |= in_target;
+                                    }
                                 }
                             }
                         }
                     }
                 }
             }
+        }
+        if !any_final {
+            return Ok(Some(Vec::new()));
         }
         Ok(Some((0..w * h).filter(|&c| member[c]).collect()))
     }

@@ -34,7 +34,9 @@
 //!
 //! A goal joint with more than [`MAX_POSE_COMBINATIONS`] ancestor value combinations gets no
 //! travel bound (`C_j` is then not computed and the joint is left out of `travel`). An empty
-//! `C_j` proves the goal infeasible: no move can bring the joint into its target.
+//! `C_j` proves the goal infeasible: no move can bring the joint into its target. With segmented
+//! moves `C_j` is also taken empty when no cell serves a position inside the target (the
+//! move's last run must hold one from such a cell).
 //!
 //! Here the heuristic and its `work` term; the final-move sets in `final_move.rs`, the `travel`
 //! term in `travel.rs`, on the distance transform of `distance.rs`.
