@@ -22,6 +22,14 @@ use crate::articulation::uncertainty::{PlaneCovariance, Uncertainty, tangent_bas
 ///   in-plane offset `P⊥ δc + h δa` (`h` the reference's height above the centre along the
 ///   axis).
 ///
+/// Why the curvature and not a bootstrap: the fit is a smooth maximum-likelihood problem
+/// with Gaussian noise, whose curvature at the optimum is the Fisher information; the one
+/// thing it can get wrong, the noise level the settings assume, the sandwich estimates from
+/// the residuals. A bootstrap would refit the model (one Levenberg–Marquardt run over all
+/// latent angles) per resample. Measured on the synthetic scenes' paths (84 runs, σ 2 to
+/// 10 mm, settings fixed at 5 mm): the 95 % regions cover the truth in 93–95 % of runs
+/// (`tests/articulation/calibration.rs`).
+///
 /// Returns the uncertainty and the estimated noise (position σ m, orientation σ rad; 0 where
 /// not estimated) for the details.
 pub(super) fn uncertainty(
