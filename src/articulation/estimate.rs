@@ -5,6 +5,7 @@ use nalgebra::{Isometry3, Point3, Unit, Vector3};
 
 use super::cloud::PointCloud;
 use super::error::{ArticulationError, InputKind};
+use super::uncertainty::Uncertainty;
 
 /// Everything an estimator may use from one exploratory interaction.
 #[derive(Debug, Clone, Copy)]
@@ -47,43 +48,53 @@ impl Interaction<'_> {
                 });
             }
         }
-        let input = InputKind::EePoses;
-        for (index, (t, pose)) in self.ee_poses.iter().enumerate() {
-            if !t.is_finite() {
-                return Err(ArticulationError::NonFinite {
+        validate_ee_poses(self.ee_poses)
+    }
+}
+
+/// Checks a recorded end-effector pose sequence (`(time s, world_from_ee)`): finite times and
+/// poses, times strictly increasing.
+///
+/// # Errors
+/// [`ArticulationError::NonFinite`] for any NaN or infinite number,
+/// [`ArticulationError::TimeNotIncreasing`] when the times do not strictly increase.
+pub fn validate_ee_poses(ee_poses: &[(f64, Isometry3<f64>)]) -> Result<(), ArticulationError> {
+    let input = InputKind::EePoses;
+    for (index, (t, pose)) in ee_poses.iter().enumerate() {
+        if !t.is_finite() {
+            return Err(ArticulationError::NonFinite {
+                input,
+                what: "time",
+                index,
+            });
+        }
+        let q = pose.rotation.quaternion();
+        let finite = pose
+            .translation
+            .vector
+            .iter()
+            .chain(q.coords.iter())
+            .all(|v| v.is_finite());
+        if !finite {
+            return Err(ArticulationError::NonFinite {
+                input,
+                what: "pose",
+                index,
+            });
+        }
+        if index > 0 {
+            let previous = ee_poses[index - 1].0;
+            if *t <= previous {
+                return Err(ArticulationError::TimeNotIncreasing {
                     input,
-                    what: "time",
                     index,
+                    time: *t,
+                    previous,
                 });
-            }
-            let q = pose.rotation.quaternion();
-            let finite = pose
-                .translation
-                .vector
-                .iter()
-                .chain(q.coords.iter())
-                .all(|v| v.is_finite());
-            if !finite {
-                return Err(ArticulationError::NonFinite {
-                    input,
-                    what: "pose",
-                    index,
-                });
-            }
-            if index > 0 {
-                let previous = self.ee_poses[index - 1].0;
-                if *t <= previous {
-                    return Err(ArticulationError::TimeNotIncreasing {
-                        input,
-                        index,
-                        time: *t,
-                        previous,
-                    });
-                }
             }
         }
-        Ok(())
     }
+    Ok(())
 }
 
 /// An estimated joint: the part's motion from the pre to the post observation.
@@ -154,10 +165,14 @@ pub struct Estimate {
     pub moving: Vec<usize>,
     /// The moving part's points in the pre pose (map frame): geometry for collision checks.
     pub part_points: Vec<Point3<f64>>,
-    /// Estimator-specific confidence in [0, 1].
+    /// Estimator-specific confidence: always finite and in [0, 1] (the estimators build it with
+    /// [`unit_score`], which maps NaN to 0).
     pub score: f64,
     /// Model-selection numbers, for logs.
     pub details: String,
+    /// The uncertainty of the joint's axis, pivot and type; `None` for an unknown joint or
+    /// when the fit's curvature is singular.
+    pub uncertainty: Option<Uncertainty>,
 }
 
 impl Estimate {
@@ -170,8 +185,16 @@ impl Estimate {
             moving: Vec::new(),
             part_points: Vec::new(),
             score: 0.0,
+            uncertainty: None,
         }
     }
+}
+
+/// `x` as a score: clamped to [0, 1], NaN (an undefined confidence, e.g. ∞/∞) taken as 0.
+///
+/// `f64::clamp` alone keeps NaN, so every score goes through this.
+pub fn unit_score(x: f64) -> f64 {
+    if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) }
 }
 
 /// An articulation estimator: one interaction in, one joint estimate out.
@@ -206,6 +229,7 @@ impl Estimate {
 ///             part_points: Vec::new(),
 ///             score: 0.5,
 ///             details: String::new(),
+///             uncertainty: None,
 ///         })
 ///     }
 /// }

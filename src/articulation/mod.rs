@@ -3,7 +3,10 @@
 //! One exploratory interaction ([`Interaction`]: pre/post point clouds, contact points, the
 //! end-effector poses recorded while pulling) goes into an [`ArticulationEstimator`], which
 //! returns an [`Estimate`]: a [`JointEstimate`] (revolute, prismatic, or unknown with the reason),
-//! the moving part's segmentation and points, a score and model-selection details.
+//! the moving part's segmentation and points, a score (finite, in [0, 1]), model-selection
+//! details and the [`Uncertainty`] of the axis, pivot and type (Gaussian covariances in the
+//! axis's tangent plane and the pivot's plane, with 95 % regions). [`Proprioceptive`] also
+//! takes the poses alone ([`Proprioceptive::estimate_poses`]).
 //!
 //! - [`TwoView`]: segment the moving part from the two clouds, register it rigidly (robust ICP
 //!   with closed-form Kabsch steps), decompose the motion into a screw and select the joint type
@@ -33,14 +36,17 @@ mod proprioceptive;
 mod screw;
 pub mod synthetic;
 mod two_view;
+mod uncertainty;
 mod visibility;
 
 pub use cloud::PointCloud;
 pub use error::{ArticulationError, InputKind};
 pub use estimate::{
-    ArticulationEstimator, Estimate, Interaction, JointEstimate, JointKindEstimate,
+    ArticulationEstimator, Estimate, Interaction, JointEstimate, JointKindEstimate, unit_score,
+    validate_ee_poses,
 };
 pub use metrics::{axis_angle_error, axis_position_error, joint_type_accuracy};
 pub use proprioceptive::{OrientationModel, Proprioceptive, ProprioceptiveSettings};
 pub use screw::Screw;
 pub use two_view::{TwoView, TwoViewSettings};
+pub use uncertainty::{CHI2_2DOF_95, PlaneCovariance, Uncertainty};

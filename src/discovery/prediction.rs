@@ -61,6 +61,8 @@ impl Run<'_> {
         ) {
             entry.notes.push(note);
             estimate.joint = slide;
+            // The estimator's regions describe the turn it estimated, not this slide.
+            estimate.uncertainty = None;
         }
         Ok(estimate)
     }

@@ -63,9 +63,7 @@ fn degenerate_input_gives_unknown() {
         (OrientationModel::ApproachAxis, Vector3::y(), false),
         (OrientationModel::ApproachAxis, Vector3::z(), true),
     ] {
-        let e = proprio(orientation)
-            .estimate(&proprio_only(&twist(about)))
-            .unwrap();
+        let e = proprio(orientation).estimate_poses(&twist(about)).unwrap();
         if slide {
             let JointEstimate::Prismatic { axis, .. } = e.joint else {
                 panic!("{orientation:?}: {e:?}")

@@ -88,3 +88,28 @@ fn two_view_part_points_are_the_segmented_pre_points() {
         e.moving.len()
     );
 }
+
+/// The NaN score: two-view on the sliding panel (a correctly classified translation
+/// whose rotation fit can fail, BIC ∞) at σ = 5 and 10 mm, two seeds each. Every score and
+/// type probability is finite and in [0, 1], and a known joint carries a finite uncertainty.
+#[test]
+fn sliding_door_scores_are_finite() {
+    let s = scenarios()
+        .into_iter()
+        .find(|s| s.name == "sliding panel")
+        .expect("the sliding panel scene");
+    for (sigma, seed) in [(0.005, 31), (0.005, 32), (0.010, 33), (0.010, 34)] {
+        let o = observe(&s, sigma, 0.05, seed, 1.0);
+        let e = TwoView::default().estimate(&o.interaction()).unwrap();
+        let ctx = format!("σ {sigma} seed {seed}: {e:?}");
+        assert!(
+            e.score.is_finite() && (0.0..=1.0).contains(&e.score),
+            "{ctx}"
+        );
+        if e.joint.kind() != JointKindEstimate::Unknown {
+            let u = e.uncertainty.expect(&ctx);
+            assert!((0.0..=1.0).contains(&u.type_probability), "{ctx}");
+            assert!(u.axis_half_angle_95().is_finite(), "{ctx}");
+        }
+    }
+}

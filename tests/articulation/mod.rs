@@ -6,6 +6,7 @@
 //! observations with `synthetic::render` (ray-cast: partial views, exact occlusion, depth noise
 //! along the ray, outliers). The expected values of every assertion are that ground truth.
 
+mod calibration;
 mod degenerate;
 mod estimators;
 mod metrics;
@@ -125,6 +126,30 @@ fn observe(s: &Scenario, sigma: f64, outliers: f64, seed: u64, travel: f64) -> O
     };
     let pre = render(&pre_boxes, &s.camera_pre, &noise(0), 0.0).expect("valid camera");
     let post = render(&post_boxes, &s.camera_post, &noise(1), 10.0).expect("valid camera");
+    let (contact_pre, contact_post, ee_poses) = proprioception(s, sigma, outliers, seed, travel);
+    Observation {
+        pre: pre.cloud,
+        post: post.cloud,
+        pre_labels: pre.labels,
+        contact_pre,
+        contact_post,
+        ee_poses,
+    }
+}
+
+/// `(time s, world_from_ee)`.
+type TimedPose = (f64, Isometry3<f64>);
+
+/// The contacts and the end-effector path of [`observe`] (200 poses), without rendering: the
+/// same random draws as there.
+fn proprioception(
+    s: &Scenario,
+    sigma: f64,
+    outliers: f64,
+    seed: u64,
+    travel: f64,
+) -> (Point3<f64>, Point3<f64>, Vec<TimedPose>) {
+    let moved = s.truth.motion(travel);
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5eed);
     let mut gauss = |scale: f64| -> Vector3<f64> {
         let mut g = || {
@@ -158,14 +183,7 @@ fn observe(s: &Scenario, sigma: f64, outliers: f64, seed: u64, travel: f64) -> O
         }
         ee_poses.push((0.01 * k as f64, p));
     }
-    Observation {
-        pre: pre.cloud,
-        post: post.cloud,
-        pre_labels: pre.labels,
-        contact_pre,
-        contact_post,
-        ee_poses,
-    }
+    (contact_pre, contact_post, ee_poses)
 }
 
 /// Errors of one estimate against the truth.

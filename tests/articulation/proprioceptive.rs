@@ -50,9 +50,7 @@ fn proprioceptive_arc_and_line() {
         OrientationModel::ApproachAxis,
         OrientationModel::Ignored,
     ] {
-        let e = proprio(orientation)
-            .estimate(&proprio_only(&poses))
-            .unwrap();
+        let e = proprio(orientation).estimate_poses(&poses).unwrap();
         let JointEstimate::Revolute {
             axis: a,
             pivot: q,
@@ -92,9 +90,7 @@ fn proprioceptive_arc_and_line() {
         (t, p)
     })
     .collect::<Vec<_>>();
-    let e = Proprioceptive::default()
-        .estimate(&proprio_only(&line))
-        .unwrap();
+    let e = Proprioceptive::default().estimate_poses(&line).unwrap();
     let JointEstimate::Prismatic { axis: a, distance } = e.joint else {
         panic!("{e:?}")
     };
@@ -144,9 +140,7 @@ fn proprioceptive_compliant_grasp_needs_only_the_approach_axis() {
         })
         .collect();
     let error = |orientation| {
-        let e = proprio(orientation)
-            .estimate(&proprio_only(&poses))
-            .unwrap();
+        let e = proprio(orientation).estimate_poses(&poses).unwrap();
         let JointEstimate::Revolute {
             axis: a, pivot: q, ..
         } = e.joint
@@ -165,5 +159,38 @@ fn proprioceptive_compliant_grasp_needs_only_the_approach_axis() {
     assert!(
         rigid_angle > 2.0 && rigid_angle > approach_angle,
         "rigid {rigid_angle}° vs approach {approach_angle}°"
+    );
+}
+
+/// The poses-only entry point is the trait's rule without clouds: on an arc, the trait call
+/// with two empty clouds and the contact at the first pose gives the same estimate; a NaN pose
+/// is a typed error naming the pose.
+#[test]
+fn proprioceptive_needs_only_poses() {
+    let axis = Unit::new_normalize(Vector3::new(0.1, 0.1, 1.0));
+    let radial = axis.cross(&Vector3::y()).normalize() * 0.4;
+    let poses = arc_poses(axis, Point3::new(0.5, 0.0, 0.3), radial, 0.8, 25, 0.003, 4);
+    let est = Proprioceptive::default();
+    let alone = est.estimate_poses(&poses).unwrap();
+    let with_contact = Interaction {
+        contact_pre: Point3::from(poses[0].1.translation.vector),
+        ..proprio_only(&poses)
+    };
+    let via_trait = est.estimate(&with_contact).unwrap();
+    assert!(
+        matches!(alone.joint, JointEstimate::Revolute { .. }),
+        "{alone:?}"
+    );
+    assert_eq!(alone.joint, via_trait.joint);
+    assert_eq!(alone.uncertainty, via_trait.uncertainty);
+    let mut bad = poses.clone();
+    bad[3].1.translation.vector.x = f64::NAN;
+    assert_eq!(
+        est.estimate_poses(&bad),
+        Err(ArticulationError::NonFinite {
+            input: InputKind::EePoses,
+            what: "pose",
+            index: 3
+        })
     );
 }

@@ -13,7 +13,9 @@ use super::ProprioceptiveSettings;
 use super::likelihood::Likelihood;
 use super::model::{Model, circle_through, line_through};
 use super::refine::{refine_circle, refine_line};
-use crate::articulation::estimate::{Estimate, Interaction, JointEstimate};
+use super::uncertainty::uncertainty;
+use crate::articulation::estimate::{Estimate, JointEstimate, unit_score};
+use crate::articulation::uncertainty::bic_probability;
 
 /// A fitted model with its score.
 #[derive(Debug, Clone)]
@@ -44,8 +46,15 @@ struct Fit {
 ///    explains fewer than half the poses, or a winner whose fitted travel (distance along the
 ///    line, arc length on the circle) or whose straight distance between the first and last
 ///    inliers is below `min_motion` give `Unknown`.
-pub(super) fn estimate(s: &ProprioceptiveSettings, i: &Interaction<'_>) -> Estimate {
-    let poses: Vec<Isometry3<f64>> = i.ee_poses.iter().map(|(_, p)| *p).collect();
+/// 4. The uncertainty of the winner ([`uncertainty`]); its type probability is BIC's
+///    posterior against the other model. A revolute pivot is the axis point level with
+///    `contact_pre`, or without it with the first inlier's position.
+pub(super) fn estimate(
+    s: &ProprioceptiveSettings,
+    ee_poses: &[(f64, Isometry3<f64>)],
+    contact_pre: Option<Point3<f64>>,
+) -> Estimate {
+    let poses: Vec<Isometry3<f64>> = ee_poses.iter().map(|(_, p)| *p).collect();
     let n = poses.len();
     let positions = match check_motion(s, &poses) {
         Ok(positions) => positions,
@@ -55,7 +64,7 @@ pub(super) fn estimate(s: &ProprioceptiveSettings, i: &Interaction<'_>) -> Estim
     let Some(best) = fits.iter().min_by(|a, b| a.bic.total_cmp(&b.bic)) else {
         return Estimate::unknown("no model hypothesis could be formed (degenerate positions)");
     };
-    let details = format!("proprioceptive: {}", summary(&fits, n));
+    let mut details = format!("proprioceptive: {}", summary(&fits, n));
     let inl: Vec<usize> = (0..n).filter(|&k| best.inliers[k]).collect();
     if inl.len() * 2 < n || inl.len() < 2 {
         return Estimate {
@@ -70,12 +79,29 @@ pub(super) fn estimate(s: &ProprioceptiveSettings, i: &Interaction<'_>) -> Estim
             ..Estimate::unknown(reason)
         };
     }
+    // Without a contact the pivot is level with where the end effector began.
+    let reference = contact_pre.unwrap_or(positions[inl[0]]);
+    let other = fits
+        .iter()
+        .filter(|f| !std::ptr::eq(*f, best))
+        .map(|f| f.bic)
+        .fold(f64::INFINITY, f64::min);
+    let type_probability = bic_probability(best.bic, other);
+    let uncertainty = uncertainty(s, &best.model, &poses, &inl, &reference, type_probability).map(
+        |(u, sigma_p, sigma_o)| {
+            details += &format!(
+                "; estimated noise: position {sigma_p:.4} m, orientation {sigma_o:.4} rad"
+            );
+            u
+        },
+    );
     Estimate {
-        joint: joint(&best.model, &positions, &inl, i.contact_pre),
+        joint: joint(&best.model, &positions, &inl, reference),
         moving: Vec::new(),
         part_points: Vec::new(),
         score,
         details,
+        uncertainty,
     }
 }
 
@@ -220,7 +246,7 @@ fn score(fits: &[Fit], best: &Fit, inliers: usize, n: usize) -> f64 {
         .map(|f| f.bic - best.bic)
         .fold(f64::INFINITY, |a, b| if b > 0.0 { a.min(b) } else { a });
     let margin = if margin.is_finite() { margin } else { 0.0 };
-    inliers as f64 / n as f64 / (1.0 + (-margin / 2.0).exp())
+    unit_score(inliers as f64 / n as f64 / (1.0 + (-margin / 2.0).exp()))
 }
 
 /// Step 3's check of the winner: the reason for `Unknown` when its fitted travel from the first

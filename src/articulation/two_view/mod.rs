@@ -8,6 +8,7 @@ mod change;
 mod fit;
 mod segment;
 mod settings;
+mod uncertainty;
 
 pub use settings::TwoViewSettings;
 
@@ -16,8 +17,10 @@ use nalgebra::Point3;
 use self::change::{Changes, grow, seeds};
 use self::fit::{Fitter, initial_guesses, joint_of, refine, register, select};
 use self::segment::{details, final_segment, score_of};
+use self::uncertainty::uncertainty;
 use super::error::ArticulationError;
 use super::estimate::{ArticulationEstimator, Estimate, Interaction};
+use super::uncertainty::bic_probability;
 
 /// The two-view estimator (see the module docs of [`super`]).
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -85,6 +88,8 @@ impl ArticulationEstimator for TwoView {
 ///    just in front of a door turning about a vertical axis) are taken as moving; part surfaces
 ///    sliding along themselves, and thin strips of the part within `τ` of a static surface, are
 ///    left out.
+/// 7. **Uncertainty.** The Gauss–Newton covariance of the chosen model's point-to-plane
+///    residuals at the fit (see `uncertainty.rs`), with the BIC posterior of the type.
 fn estimate(s: &TwoViewSettings, i: &Interaction<'_>) -> Estimate {
     steps(s, i).unwrap_or_else(Estimate::unknown)
 }
@@ -134,6 +139,21 @@ fn steps(s: &TwoViewSettings, i: &Interaction<'_>) -> Result<Estimate, String> {
         .count() as f64
         / n;
     let score = score_of(inliers, selection.margin);
+    let (bic_chosen, bic_other) = if selection.revolute {
+        (selection.bic_r, selection.bic_p)
+    } else {
+        (selection.bic_p, selection.bic_r)
+    };
+    let uncertainty = uncertainty(
+        s,
+        &c,
+        &fitter,
+        &chosen.motion,
+        selection.revolute,
+        &i.contact_pre,
+        selection.n_eff,
+        bic_probability(bic_chosen, bic_other),
+    );
     let details = details(&c, part.len(), part_post.len(), &rigid, &selection, inliers);
     Ok(Estimate {
         joint,
@@ -141,5 +161,6 @@ fn steps(s: &TwoViewSettings, i: &Interaction<'_>) -> Result<Estimate, String> {
         moving,
         score,
         details,
+        uncertainty,
     })
 }

@@ -5,7 +5,7 @@ use nalgebra::Isometry3;
 use super::TwoViewSettings;
 use super::change::{Changes, grow};
 use super::fit::Selection;
-use crate::articulation::estimate::Interaction;
+use crate::articulation::estimate::{Interaction, unit_score};
 use crate::articulation::icp::Registration;
 use crate::articulation::screw::Screw;
 use crate::articulation::visibility::RangeImage;
@@ -43,14 +43,18 @@ pub(super) fn final_segment(
 
 /// The estimate's score: the inlier fraction times the model-selection confidence
 /// `margin / (margin + 10)`. An infinite margin (only one model could be registered) is a
-/// certain selection (the quotient itself would be ∞/∞ = NaN).
+/// certain selection (the quotient itself would be ∞/∞ = NaN); an undefined one (NaN, ∞ − ∞)
+/// is no confidence. Finite and in [0, 1] for every input ([`unit_score`]).
 pub(super) fn score_of(inliers: f64, margin: f64) -> f64 {
-    let selection = if margin.is_finite() {
-        margin / (margin + 10.0)
-    } else {
+    let selection = if margin.is_nan() {
+        0.0
+    } else if margin == f64::INFINITY {
         1.0
+    } else {
+        let margin = margin.max(0.0);
+        margin / (margin + 10.0)
     };
-    (inliers * selection).clamp(0.0, 1.0)
+    unit_score(unit_score(inliers) * selection)
 }
 
 /// The estimate's details: the change threshold, the segment sizes (`part` pre points,
@@ -99,5 +103,28 @@ mod tests {
         assert_eq!(score_of(0.8, f64::INFINITY), 0.8);
         // 10 / (10 + 10) = half the inliers.
         assert!((score_of(0.8, 10.0) - 0.4).abs() < 1e-12);
+    }
+
+    /// Whatever the inputs (NaN, ±∞, out of range), the score is finite and in [0, 1].
+    #[test]
+    fn every_score_is_finite_and_in_the_unit_interval() {
+        let values = [
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            -1.0,
+            0.0,
+            0.5,
+            1.0,
+            7.0,
+        ];
+        for inliers in values {
+            for margin in values {
+                let s = score_of(inliers, margin);
+                assert!((0.0..=1.0).contains(&s), "{inliers} {margin}: {s}");
+            }
+        }
+        // ∞ − ∞ = NaN (both models unregistered) is no confidence.
+        assert_eq!(score_of(0.8, f64::INFINITY - f64::INFINITY), 0.0);
     }
 }
