@@ -107,6 +107,21 @@ impl DenseBoxQp {
         None
     }
 
+    /// The unconstrained minimiser `−H⁻¹ g` (the bounds ignored): one Cholesky factorisation,
+    /// the first round of [`DenseBoxQp::solve`]. `None` if H is not numerically positive
+    /// definite.
+    pub fn unconstrained(&mut self, h: &DMatrix<f64>, g: &DVector<f64>) -> Option<&DVector<f64>> {
+        self.status.fill(Status::Free);
+        self.dq.fill(0.0);
+        if !self.free_minimiser(h, g) {
+            return None;
+        }
+        for (k, &j) in self.free.iter().enumerate() {
+            self.dq[j] = self.y[k];
+        }
+        Some(&self.dq)
+    }
+
     /// Fills `self.free` and puts in `self.y` the minimiser over the free coordinates with the
     /// fixed ones held: `H_FF y = −(g_F + H_FW dq_W)`. `false` if `H_FF` is not numerically
     /// positive definite.
