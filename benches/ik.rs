@@ -676,7 +676,7 @@ fn protocol(arm: &Arm, samples: usize) {
     // Warm-up: the shim's first load and the caches, outside the figures.
     let _ = ours(&new, &seed, &targets[..targets.len().min(100)], false);
     let new_summary = ours(&new, &seed, &targets, verbose);
-    new_summary.print(&format!("ik/{name} kinscene clamped DLS step (new)"));
+    new_summary.print(&format!("ik/{name} kinscene DLS step (new)"));
     let compare = |label: &str, summary: &Summary| {
         summary.print(&format!("ik/{name} {label}"));
         println!(

@@ -107,8 +107,9 @@ impl StepSolvers {
 
     /// The minimiser of `qp`, written into `dq`. With [`StepSolver::DampedLeastSquares`] the
     /// damped-least-squares step `−H⁻¹ g` when it lies within the bounds (then it is the
-    /// minimiser); otherwise, and with the other solvers, the QP solved with `solver` (the
-    /// dense method falls back to Clarabel, and so does the damped-least-squares step).
+    /// minimiser), else the dense active-set rounds continued from its factorisation; with
+    /// [`StepSolver::Dense`] the active-set method from the start. Either falls back to
+    /// Clarabel when it cannot certify a minimiser; [`StepSolver::Clarabel`] always uses it.
     ///
     /// # Errors
     /// Clarabel's [`IkError::QpSetup`] and [`IkError::QpFailed`].
@@ -119,19 +120,17 @@ impl StepSolvers {
         dq: &mut DVector<f64>,
     ) -> Result<(), IkError> {
         if solver == StepSolver::DampedLeastSquares {
-            if let Some(x) = self.dense.unconstrained(&qp.h, &qp.g) {
-                let within = x
-                    .iter()
-                    .zip(qp.lower.iter().zip(qp.upper.iter()))
-                    .all(|(x, (lo, hi))| lo <= x && x <= hi);
-                if within {
-                    dq.copy_from(x);
-                    return Ok(());
-                }
+            if let Some((x, unconstrained)) = self
+                .dense
+                .solve_unconstrained_first(&qp.h, &qp.g, &qp.lower, &qp.upper)
+            {
+                dq.copy_from(x);
+                self.qp_steps += usize::from(!unconstrained);
+                return Ok(());
             }
         }
         self.qp_steps += 1;
-        if solver != StepSolver::Clarabel {
+        if solver == StepSolver::Dense {
             if let Some(x) = self.dense.solve(&qp.h, &qp.g, &qp.lower, &qp.upper) {
                 dq.copy_from(x);
                 return Ok(());
