@@ -1,6 +1,7 @@
-//! Inverse kinematics: the TRAC-IK protocol on the shipped Kinova Gen3 and on the Panda, the
-//! dense step path against the Clarabel-only solver and against TRAC-IK; then the Gen3 from
-//! its neutral configuration against pink.
+//! Inverse kinematics: the TRAC-IK protocol on the shipped Kinova Gen3 and on the Panda,
+//! kinscene's fast path against its QP step paths, a plain Pinocchio damped-least-squares
+//! loop, TRAC-IK and pink; then the Gen3 from its neutral configuration against pink with the
+//! default settings.
 //!
 //! **TRAC-IK protocol** (per robot): 10 000 random arm configurations (ChaCha8, seed 5; uniform
 //! within the joint limits, continuous joints uniform in [−π, π)) → forward kinematics
@@ -8,31 +9,43 @@
 //! continuous joints), 1e-5 m and 1e-5 rad (norms of the position and rotation errors), a
 //! 5 ms wall-clock budget. kinscene runs [`protocol_settings`]: random restarts until
 //! [`PROTOCOL_STEPS`] steps (the iteration budget, which ends a solve before the wall clock on
-//! an idle machine, so the figures do not depend on the load) or 5 ms. The same settings with
-//! [`StepSolver::Clarabel`] are the solver as it was before the dense step path ("old"), run
-//! in the same process on the same targets. TRAC-IK is pytracik (TRAC-IK 1.x: KDL Newton and
-//! NLopt SQP in two threads, "Speed" mode, 5 ms, ε = 1e-5 on each twist component), called
-//! on the same targets from the bench venv `.deps/bench-venv` (see [`TRACIK_SCRIPT`]); its
-//! answers are re-checked with our tolerances by its own FK. Printed per solver: success
-//! rate, median / p95 / mean wall-clock µs per solve, steps, CPU time per solve (the thread's
-//! schedstat: unlike wall-clock time it does not grow when other processes share the cores),
-//! and the ratios old / new and TRAC-IK / new.
+//! an idle machine, so the figures do not depend on the load) or 5 ms. Solvers, all in the
+//! same process (or called from it) on the same targets:
+//! - **new**: [`StepSolver::DampedLeastSquares`] (the default: the DLS step, the QP only when
+//!   a bound cuts it);
+//! - **dense QP step** and **Clarabel QP step**: the same settings with [`StepSolver::Dense`]
+//!   (the solver before the fast path) and [`StepSolver::Clarabel`] (before the dense path);
+//! - **Pinocchio DLS loop**: [`pinocchio_dls`], the plain damped-least-squares loop with
+//!   clamping and random restarts, written here in Rust over the same Pinocchio calls;
+//! - **TRAC-IK**: pytracik (TRAC-IK 1.x: KDL Newton and NLopt SQP in two threads, "Speed"
+//!   mode, 5 ms, ε = 1e-5 on each twist component), called on the same targets from the bench
+//!   venv (see [`TRACIK_SCRIPT`]); its answers are re-checked with our tolerances by its own
+//!   FK;
+//! - **pink**: `scripts/ik_pink.py` (Python Pinocchio + pink's QP IK, the same algorithm as
+//!   the Clarabel step path) with the protocol's tolerances and 5 ms; it has no iteration
+//!   budget.
+//!
+//! Printed per solver: success rate, median / p95 / mean wall-clock µs per solve, steps, CPU
+//! time per solve (the thread's schedstat, or the process's for the Python baselines: unlike
+//! wall-clock time it does not grow when other processes share the cores), and the ratios
+//! solver / new of the median, p95, mean and CPU per solve.
 //!
 //! The Panda is Pinocchio's parse of `panda.urdf` of the PyPI package `example-robot-data`
 //! (tool frame `panda_hand`, the 7 arm joints; the finger joints keep their seed value); the
 //! bench looks for it in the bench venv and skips the Panda when it is absent (or set
 //! `KINSCENE_PANDA_URDF`).
 //!
-//! **pink**: the Gen3 targets solved from the robot's neutral configuration with the
-//! default [`IkSettings`] (1e-5 m / 1e-4 rad, 50 restarts, 50 ms), by kinscene and by pink
-//! (Python Pinocchio + QP IK, `scripts/ik_pink.py`, same algorithm and settings). Finally
-//! criterion times `solve_with` on 200 of the Gen3 targets (default settings, from neutral).
+//! **pink, default settings**: the Gen3 targets solved from the robot's neutral configuration
+//! with the default [`IkSettings`] (1e-5 m / 1e-4 rad, 50 restarts, 50 ms), by kinscene and
+//! by pink. Finally criterion times `solve_with` on 200 of the Gen3 targets (default settings,
+//! from neutral) and one step's Pinocchio calls.
 //!
-//! Run: `bash setup.sh --bench` once, then
-//! `cargo bench --bench ik -- --warm-up-time 1 --measurement-time 2`. Set `KINSCENE_IK_SAMPLES`
-//! to use fewer targets (every solver), `KINSCENE_SKIP_PINK=1` to skip pink,
-//! `KINSCENE_SKIP_TRACIK=1` to skip TRAC-IK, `KINSCENE_SKIP_OLD=1` to skip the Clarabel-only
-//! solver (and TRAC-IK), `KINSCENE_IK_VERBOSE=1` to list kinscene's failures.
+//! Run: `bash setup.sh --bench` once (the bench venv `.deps/bench-venv`, from
+//! `scripts/bench-requirements.txt`; or set `KINSCENE_BENCH_VENV` to a venv with those
+//! packages), then `cargo bench --bench ik -- --warm-up-time 1 --measurement-time 2`. Set
+//! `KINSCENE_IK_SAMPLES` to use fewer targets (every solver), `KINSCENE_SKIP_PINK=1` to skip
+//! pink, `KINSCENE_SKIP_TRACIK=1` to skip TRAC-IK, `KINSCENE_SKIP_OLD=1` to skip kinscene's QP
+//! step paths, `KINSCENE_IK_VERBOSE=1` to list kinscene's failures.
 
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
@@ -54,7 +67,14 @@ const CRITERION_SUBSET: usize = 200;
 /// The shipped robot's URDF, for pink and TRAC-IK (the Rust side embeds the same file).
 const GEN3_URDF: &str = "robots/kinova_gen3_mobile.urdf";
 /// The Panda's URDF inside the bench venv's `example-robot-data`.
-const PANDA_URDF: &str = ".deps/bench-venv/lib/python3.11/site-packages/cmeel.prefix/share/example-robot-data/robots/panda_description/urdf/panda.urdf";
+const PANDA_URDF: &str = "lib/python3.11/site-packages/cmeel.prefix/share/example-robot-data/robots/panda_description/urdf/panda.urdf";
+
+/// The bench venv: `KINSCENE_BENCH_VENV`, else `.deps/bench-venv` of the crate.
+fn bench_venv() -> PathBuf {
+    std::env::var_os("KINSCENE_BENCH_VENV")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join(".deps/bench-venv"))
+}
 /// The protocol's wall-clock budget and tolerance.
 const PROTOCOL_BUDGET: Duration = Duration::from_millis(5);
 const PROTOCOL_TOLERANCE: f64 = 1e-5;
@@ -110,7 +130,7 @@ impl Arm {
     fn panda() -> Result<Arm, String> {
         let urdf = std::env::var_os("KINSCENE_PANDA_URDF")
             .map(PathBuf::from)
-            .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join(PANDA_URDF));
+            .unwrap_or_else(|| bench_venv().join(PANDA_URDF));
         let xml = std::fs::read_to_string(&urdf).map_err(|e| {
             format!(
                 "{}: {e} (pip install example-robot-data into .deps/bench-venv, or set KINSCENE_PANDA_URDF)",
@@ -324,6 +344,7 @@ fn ours(
     let mut data = IkData::new(solver).expect("scratch");
     let mut times = Vec::with_capacity(targets.len());
     let (mut solved, mut steps, mut clarabel_steps, mut attempts) = (0, 0, 0, 0);
+    let mut qp_steps = 0;
     let mut budget_ends = 0;
     let cpu_start = thread_cpu_seconds();
     for target in targets {
@@ -335,6 +356,7 @@ fn ours(
         let stats = data.last_solve();
         steps += stats.steps;
         clarabel_steps += stats.clarabel_steps;
+        qp_steps += stats.qp_steps;
         attempts += stats.attempts;
         match outcome {
             IkOutcome::Solved(_) => solved += 1,
@@ -353,7 +375,7 @@ fn ours(
         .map(|(end, start)| end - start);
     let mut summary = Summary::new(solved, times, steps, cpu);
     summary.note = format!(
-        "; {clarabel_steps} steps by Clarabel, {:.2} attempts per solve, {budget_ends} ended by the wall clock",
+        "; {qp_steps} steps solved the QP, {clarabel_steps} by Clarabel, {:.2} attempts per solve, {budget_ends} ended by the wall clock",
         attempts as f64 / targets.len() as f64
     );
     summary
@@ -373,11 +395,10 @@ fn run_python(
     tag: &str,
     input: &serde_json::Value,
 ) -> Result<serde_json::Value, String> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let python = root.join(".deps/bench-venv/bin/python");
+    let python = bench_venv().join("bin/python");
     if !python.exists() {
         return Err(format!(
-            "{} not found: run `bash setup.sh --bench` (it creates the bench venv from scripts/bench-requirements.txt)",
+            "{} not found: run `bash setup.sh --bench` (it creates the bench venv from scripts/bench-requirements.txt) or set KINSCENE_BENCH_VENV",
             python.display()
         ));
     }
@@ -549,7 +570,96 @@ fn tracik(
     Ok((summary, within, version))
 }
 
-/// The TRAC-IK protocol on one arm: new, old, TRAC-IK; printed with ratios.
+/// Damping λ of the plain damped-least-squares loop ([`pinocchio_dls`]), added to JJᵀ.
+const DLS_DAMPING: f64 = 1e-6;
+/// Steps of one attempt of [`pinocchio_dls`] before it restarts from a random configuration.
+const DLS_ATTEMPT_STEPS: usize = 50;
+
+/// The plain damped-least-squares IK loop on Pinocchio, written here in Rust over the same
+/// Pinocchio calls the solver makes (the frame placement and `LOCAL_WORLD_ALIGNED` Jacobian in
+/// one pass, `integrate`): the "40-line C++ Pinocchio DLS loop" without a C++ bench
+/// entry in the shim. Per step: `e = [p* − p; log(R* Rᵀ)]`, stop when ‖e_p‖ and ‖e_R‖ are
+/// within the tolerance, `dq = Jᵀ (JJᵀ + λI)⁻¹ e` (λ = [`DLS_DAMPING`], a full step),
+/// `q ← integrate(q, dq)` clamped into the limits; after [`DLS_ATTEMPT_STEPS`] steps a restart
+/// from a configuration uniform within the limits (ChaCha8, seed 0 for every target), until
+/// the protocol's 5 ms run out. No trust region, no line search, no stall test.
+fn pinocchio_dls(arm: &Arm, seed: &DVector<f64>, targets: &[Isometry3<f64>]) -> Summary {
+    let model = &arm.model;
+    let mut data = pin::Data::new(model).expect("the Pinocchio shim loads");
+    let mut jacobian = nalgebra::DMatrix::zeros(6, model.nv());
+    let limited: Vec<(usize, f64, f64)> = model
+        .joints()
+        .iter()
+        .filter_map(|joint| match (joint.kind, joint.limits.position) {
+            (JointKind::Revolute { .. } | JointKind::Prismatic { .. }, Some((lo, hi))) => {
+                Some((joint.idx_q, lo, hi))
+            }
+            _ => None,
+        })
+        .collect();
+    let mut times = Vec::with_capacity(targets.len());
+    let (mut solved, mut steps) = (0, 0);
+    let cpu_start = thread_cpu_seconds();
+    for target in targets {
+        let start = Instant::now();
+        let deadline = start + PROTOCOL_BUDGET;
+        let mut rng = ChaCha8Rng::seed_from_u64(0);
+        let mut q = seed.clone();
+        let converged = 'solve: loop {
+            for _ in 0..DLS_ATTEMPT_STEPS {
+                let pose = pin::frame_placement_and_jacobian(
+                    model,
+                    &mut data,
+                    &q,
+                    arm.frame,
+                    &mut jacobian,
+                )
+                .expect("valid q");
+                let dp = target.translation.vector - pose.translation.vector;
+                let dr = (target.rotation * pose.rotation.inverse()).scaled_axis();
+                if dp.norm() <= PROTOCOL_TOLERANCE && dr.norm() <= PROTOCOL_TOLERANCE {
+                    break 'solve true;
+                }
+                if Instant::now() >= deadline {
+                    break 'solve false;
+                }
+                let e = nalgebra::Vector6::new(dp.x, dp.y, dp.z, dr.x, dr.y, dr.z);
+                let mut jjt = nalgebra::Matrix6::<f64>::zeros();
+                for c in 0..jacobian.ncols() {
+                    let column = jacobian.fixed_view::<6, 1>(0, c);
+                    jjt += column * column.transpose();
+                }
+                for i in 0..6 {
+                    jjt[(i, i)] += DLS_DAMPING;
+                }
+                let Some(y) = jjt.cholesky().map(|c| c.solve(&e)) else {
+                    break;
+                };
+                let dq = jacobian.transpose() * y;
+                q = pin::integrate(model, &q, &dq).expect("valid q");
+                for &(i, lo, hi) in &limited {
+                    q[i] = q[i].clamp(lo, hi);
+                }
+                steps += 1;
+            }
+            q = arm.random(&mut rng);
+        };
+        times.push(start.elapsed().as_secs_f64() * 1e6);
+        solved += usize::from(converged);
+    }
+    let cpu = thread_cpu_seconds()
+        .zip(cpu_start)
+        .map(|(end, start)| end - start);
+    Summary::new(solved, times, steps, cpu)
+}
+
+/// `KINSCENE_<NAME>=1` is set.
+fn skip(name: &str) -> bool {
+    std::env::var(format!("KINSCENE_{name}")).is_ok_and(|v| v == "1")
+}
+
+/// The TRAC-IK protocol on one arm: kinscene's fast path (new), its QP step paths, the plain
+/// Pinocchio DLS loop, TRAC-IK and pink; printed with ratios to the new path.
 fn protocol(arm: &Arm, samples: usize) {
     let targets = arm.targets(samples);
     let seed = arm.middle();
@@ -557,70 +667,79 @@ fn protocol(arm: &Arm, samples: usize) {
     println!(
         "ik/{name} TRAC-IK protocol: {samples} targets, seed = middle of the limits, 1e-5 m / 1e-5 rad, 5 ms, kinscene at most {PROTOCOL_STEPS} steps per solve"
     );
-    let new = IkSolver::new(&arm.model, arm.frame, protocol_settings(StepSolver::Dense))
-        .expect("valid settings");
-    let old = IkSolver::new(
-        &arm.model,
-        arm.frame,
-        protocol_settings(StepSolver::Clarabel),
-    )
-    .expect("valid settings");
-    let verbose = std::env::var("KINSCENE_IK_VERBOSE").is_ok_and(|v| v == "1");
+    let solver = |step_solver| {
+        IkSolver::new(&arm.model, arm.frame, protocol_settings(step_solver))
+            .expect("valid settings")
+    };
+    let new = solver(StepSolver::DampedLeastSquares);
+    let verbose = skip("IK_VERBOSE");
     // Warm-up: the shim's first load and the caches, outside the figures.
     let _ = ours(&new, &seed, &targets[..targets.len().min(100)], false);
     let new_summary = ours(&new, &seed, &targets, verbose);
-    new_summary.print(&format!("ik/{name} kinscene dense step (new)"));
-    if std::env::var("KINSCENE_SKIP_OLD").is_ok_and(|v| v == "1") {
-        println!("ik/{name} kinscene Clarabel step (old): skipped (KINSCENE_SKIP_OLD=1)");
-        return;
+    new_summary.print(&format!("ik/{name} kinscene DLS step (new)"));
+    let compare = |label: &str, summary: &Summary| {
+        summary.print(&format!("ik/{name} {label}"));
+        println!(
+            "ik/{name} ratio {label} / new: {}",
+            new_summary.ratios(summary)
+        );
+    };
+    let dls = pinocchio_dls(arm, &seed, &targets);
+    compare("Pinocchio DLS loop", &dls);
+    if skip("SKIP_OLD") {
+        println!("ik/{name} kinscene QP steps (dense, Clarabel): skipped (KINSCENE_SKIP_OLD=1)");
+    } else {
+        compare(
+            "kinscene dense QP step",
+            &ours(&solver(StepSolver::Dense), &seed, &targets, false),
+        );
+        compare(
+            "kinscene Clarabel QP step",
+            &ours(&solver(StepSolver::Clarabel), &seed, &targets, false),
+        );
     }
-    let old_summary = ours(&old, &seed, &targets, false);
-    old_summary.print(&format!("ik/{name} kinscene Clarabel step (old)"));
-    println!(
-        "ik/{name} ratio old / new: {}",
-        new_summary.ratios(&old_summary)
-    );
-    if std::env::var("KINSCENE_SKIP_TRACIK").is_ok_and(|v| v == "1") {
+    if skip("SKIP_TRACIK") {
         println!("ik/{name} TRAC-IK: skipped (KINSCENE_SKIP_TRACIK=1)");
-        return;
-    }
-    match tracik(arm, &seed, &targets) {
-        Ok((summary, within, version)) => {
-            summary.print(&format!("ik/{name} TRAC-IK ({version}, its own ε test)"));
-            println!(
-                "ik/{name} TRAC-IK answers within 1e-5 m and 1e-5 rad (norms): {within}/{} ({:.2} %)",
-                targets.len(),
-                100.0 * within as f64 / targets.len() as f64
-            );
-            println!(
-                "ik/{name} ratio TRAC-IK / new: {}",
-                new_summary.ratios(&summary)
-            );
+    } else {
+        match tracik(arm, &seed, &targets) {
+            Ok((summary, within, version)) => {
+                compare(&format!("TRAC-IK ({version}, its own ε test)"), &summary);
+                println!(
+                    "ik/{name} TRAC-IK answers within 1e-5 m and 1e-5 rad (norms): {within}/{} ({:.2} %)",
+                    targets.len(),
+                    100.0 * within as f64 / targets.len() as f64
+                );
+            }
+            Err(why) => println!("ik/{name} TRAC-IK: not run: {why}"),
         }
-        Err(why) => println!("ik/{name} TRAC-IK: not run: {why}"),
+    }
+    if skip("SKIP_PINK") {
+        println!("ik/{name} pink: skipped (KINSCENE_SKIP_PINK=1)");
+    } else {
+        match pink(arm, &seed, new.settings(), &targets) {
+            Ok((summary, versions)) => compare(&format!("pink ({versions})"), &summary),
+            Err(why) => println!("ik/{name} pink: not run: {why}"),
+        }
     }
 }
 
 /// Runs `scripts/ik_pink.py` on the Gen3 targets with `settings`; `Err` says why pink could
 /// not run.
 fn pink(
-    robot: &RobotModel,
+    arm: &Arm,
     seed: &DVector<f64>,
     settings: &IkSettings,
     targets: &[Isometry3<f64>],
 ) -> Result<(Summary, String), String> {
     // The tool pose at the seed, which the script checks against its own model of the URDF:
     // the same frames on both sides, or it stops.
-    let seed_pose = robot
-        .base_from_tool(seed)
-        .map_err(|e| format!("forward kinematics at the seed: {e}"))?;
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let input = serde_json::json!({
-        "urdf": root.join(GEN3_URDF),
-        "frame": "tool_frame",
-        "joints": robot.arm_joints().iter().map(|j| j.name.clone()).collect::<Vec<_>>(),
-        "seed": seed.as_slice(),
-        "seed_pose": xyzquat(&seed_pose),
+        "urdf": arm.urdf,
+        "frame": arm.tip_link,
+        "joints": arm.joints,
+        "seed": arm.chain_q().iter().map(|&i| seed[i]).collect::<Vec<_>>(),
+        "seed_pose": xyzquat(&arm.pose(seed)),
         "targets": targets.iter().map(xyzquat).collect::<Vec<_>>(),
         "settings": {
             "position_tolerance": settings.position_tolerance,
@@ -652,11 +771,11 @@ fn pink_comparison(robot: &RobotModel, samples: usize) {
     let targets = Arm::gen3(robot).targets(samples);
     let rust = ours(&solver, &seed, &targets, true);
     rust.print("ik/gen3 default settings from neutral: kinscene");
-    if std::env::var("KINSCENE_SKIP_PINK").is_ok_and(|v| v == "1") {
+    if skip("SKIP_PINK") {
         println!("ik/gen3 pink: skipped (KINSCENE_SKIP_PINK=1)");
         return;
     }
-    match pink(robot, &seed, &settings, &targets) {
+    match pink(&Arm::gen3(robot), &seed, &settings, &targets) {
         Ok((py, versions)) => {
             py.print(&format!(
                 "ik/gen3 default settings from neutral: pink ({versions})"

@@ -118,6 +118,60 @@ pub fn frame_jacobian(
     Ok(jacobian)
 }
 
+/// The placement `world_from_frame` and the `LOCAL_WORLD_ALIGNED` Jacobian (6 × nv, written
+/// into `jacobian`) of `frame` at configuration `q`, in one pass over the frame's support: what
+/// [`forward_kinematics`], [`frame_placement`] and [`frame_jacobian`] give together, without
+/// the full forward pass and without allocating (the inner loop of iterative IK).
+///
+/// Pinocchio's `computeFrameJacobian` in the world-aligned references updates the placements
+/// of the joints supporting the frame, so the frame's placement is read from them. Like
+/// [`frame_jacobian`], this leaves `data` needing a new [`forward_kinematics`] before
+/// placements are read again.
+///
+/// # Errors
+/// As [`frame_jacobian`]; [`Error::DimensionMismatch`] also when `jacobian` is not 6 × nv.
+pub fn frame_placement_and_jacobian(
+    model: &Model,
+    data: &mut Data,
+    q: &DVector<f64>,
+    frame: FrameIndex,
+    jacobian: &mut DMatrix<f64>,
+) -> Result<Isometry3<f64>, Error> {
+    data.check(model)?;
+    check_q(model, q, "q")?;
+    model.frame(frame)?;
+    if jacobian.shape() != (6, model.nv()) {
+        return Err(Error::DimensionMismatch {
+            what: "jacobian (6 × nv entries)",
+            expected: 6 * model.nv(),
+            got: jacobian.len(),
+        });
+    }
+    let api = ffi::api()?;
+    data.set_placements_valid(false);
+    // SAFETY: valid frame index; q has nq entries; `jacobian` is 6 × nv, column-major like the
+    // shim's output.
+    ffi::call("ks_pin_frame_jacobian", |e, n| unsafe {
+        (api.frame_jacobian)(
+            model.raw(),
+            data.raw_mut(),
+            q.as_ptr(),
+            frame.0,
+            ReferenceFrame::LocalWorldAligned.raw(),
+            jacobian.as_mut_ptr(),
+            e,
+            n,
+        )
+    })?;
+    let mut pose = [0.0; 7];
+    // SAFETY: valid frame index; `pose` holds 7 doubles. The placements of the frame's support
+    // (all the shim reads) were just computed by `computeFrameJacobian`.
+    ffi::call("ks_pin_frame_placement", |e, n| unsafe {
+        (api.frame_placement)(model.raw(), data.raw(), frame.0, pose.as_mut_ptr(), e, n)
+    })?;
+    Ok(ffi::isometry(&pose))
+}
+
 fn ready(data: &Data) -> Result<(), Error> {
     if data.placements_valid() {
         Ok(())

@@ -78,7 +78,10 @@ pub use error::Error;
 pub use frame::{Frame, FrameIndex, FrameKind, ReferenceFrame};
 pub use inertia::Inertia;
 pub use joint::{Joint, JointIndex, JointKind, JointLimits};
-pub use kinematics::{forward_kinematics, frame_jacobian, frame_placement, joint_placement};
+pub use kinematics::{
+    forward_kinematics, frame_jacobian, frame_placement, frame_placement_and_jacobian,
+    joint_placement,
+};
 pub use model::Model;
 
 /// The version of the Pinocchio library the shim was built against (e.g. `"4.1.0"`).

@@ -15,7 +15,7 @@
 
 use kinscene_pinocchio::{
     Data, FrameIndex, Model, ReferenceFrame, forward_kinematics, frame_jacobian, frame_placement,
-    integrate,
+    frame_placement_and_jacobian, integrate,
 };
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector6};
 
@@ -119,4 +119,47 @@ fn columns_of_joints_not_supporting_the_frame_are_zero() {
     let j = frame_jacobian(&model, &mut data, &q, base_frame, ReferenceFrame::World).unwrap();
     assert!(j.columns(3, model.nv() - 3).iter().all(|&x| x == 0.0));
     assert!(j.columns(0, 3).amax() > 0.5);
+}
+
+/// The one-pass placement and Jacobian equal the separate calls (the full forward pass, the
+/// placement, then `frame_jacobian`) to rounding: the same Pinocchio arithmetic on the
+/// support, so 1e-12 (the Jacobian's entries are O(1)).
+#[test]
+fn placement_and_jacobian_in_one_pass_match_the_separate_calls() {
+    let (model, tool) = mixed_model();
+    let mut data = Data::new(&model).unwrap();
+    let mut jacobian = DMatrix::zeros(6, model.nv());
+    for q in [
+        mixed_q([0.5, -1.0, 0.8], 0.3, 2.9, -0.7, 0.15),
+        mixed_q([-2.0, 0.3, -2.5], -1.2, -3.0, 1.1, -0.3),
+    ] {
+        forward_kinematics(&model, &mut data, &q).unwrap();
+        let expected_pose = frame_placement(&model, &data, tool).unwrap();
+        let expected = frame_jacobian(
+            &model,
+            &mut data,
+            &q,
+            tool,
+            ReferenceFrame::LocalWorldAligned,
+        )
+        .unwrap();
+        // A different configuration first, so stale placements would show.
+        let other = mixed_q([0.1, 0.2, 0.3], 0.0, 0.5, 0.5, 0.0);
+        forward_kinematics(&model, &mut data, &other).unwrap();
+        let pose =
+            frame_placement_and_jacobian(&model, &mut data, &q, tool, &mut jacobian).unwrap();
+        assert!((pose.translation.vector - expected_pose.translation.vector).amax() < 1e-12);
+        assert!(pose.rotation.angle_to(&expected_pose.rotation) < 1e-12);
+        assert!(
+            (&jacobian - &expected).amax() < 1e-12,
+            "{jacobian}\n{expected}"
+        );
+        assert!(expected.amax() > 0.1);
+    }
+    let mut wrong = DMatrix::zeros(6, model.nv() + 1);
+    let q = mixed_q([0.5, -1.0, 0.8], 0.3, 2.9, -0.7, 0.15);
+    assert!(matches!(
+        frame_placement_and_jacobian(&model, &mut data, &q, tool, &mut wrong),
+        Err(kinscene_pinocchio::Error::DimensionMismatch { .. })
+    ));
 }

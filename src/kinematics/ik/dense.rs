@@ -73,12 +73,52 @@ impl DenseBoxQp {
         debug_assert_eq!(self.dq.len(), g.len(), "scratch sized for the problem");
         self.status.fill(Status::Free);
         self.dq.fill(0.0);
+        self.active_set(h, g, lower, upper, false)
+    }
+
+    /// As [`DenseBoxQp::solve`], with the flag `true` when the minimiser is the unconstrained
+    /// one `−H⁻¹ g` (the damped-least-squares step), which is then returned after the first
+    /// factorisation without the multiplier check (no bound is fixed, so there is none to
+    /// check); otherwise the active-set rounds continue from that factorisation.
+    pub fn solve_unconstrained_first(
+        &mut self,
+        h: &DMatrix<f64>,
+        g: &DVector<f64>,
+        lower: &DVector<f64>,
+        upper: &DVector<f64>,
+    ) -> Option<(&DVector<f64>, bool)> {
+        debug_assert_eq!(self.dq.len(), g.len(), "scratch sized for the problem");
+        self.status.fill(Status::Free);
+        self.dq.fill(0.0);
+        if !self.free_minimiser(h, g) {
+            return None;
+        }
+        if self.ratio_test(lower, upper).is_none() {
+            for (k, &j) in self.free.iter().enumerate() {
+                self.dq[j] = self.y[k];
+            }
+            return Some((&self.dq, true));
+        }
+        self.active_set(h, g, lower, upper, true)
+            .map(|dq| (dq, false))
+    }
+
+    /// The active-set rounds from `dq` and `status`; with `factored`, the first round's free
+    /// minimiser is already in `self.y`.
+    fn active_set(
+        &mut self,
+        h: &DMatrix<f64>,
+        g: &DVector<f64>,
+        lower: &DVector<f64>,
+        upper: &DVector<f64>,
+        mut factored: bool,
+    ) -> Option<&DVector<f64>> {
         // Multipliers below this count as zero: rounding in `H dq + g` is a few ulps of its
         // largest term.
         let scale = g.amax() + h.amax() * upper.amax().max(lower.amax());
         let tolerance = 1e-12 * scale.max(f64::MIN_POSITIVE);
         for _ in 0..MAX_ROUNDS {
-            if !self.free_minimiser(h, g) {
+            if !std::mem::take(&mut factored) && !self.free_minimiser(h, g) {
                 return None;
             }
             match self.ratio_test(lower, upper) {
@@ -294,6 +334,15 @@ mod tests {
                     "trial {trial}: x[{i}]"
                 );
             }
+            // The damped-least-squares-first entry: the same rounds, so the same bits; its
+            // flag says whether no bound is active at the minimiser.
+            let (first, unconstrained) = dense
+                .solve_unconstrained_first(&h, &g, &lower, &upper)
+                .expect("certified above");
+            assert_eq!(first, &x, "trial {trial}");
+            let free = -(h.clone().cholesky().unwrap().solve(&g));
+            let inside = (0..n).all(|i| lower[i] <= free[i] && free[i] <= upper[i]);
+            assert_eq!(unconstrained, inside, "trial {trial}");
             let reference = StepQp::new(n).solve(&h, &g, &lower, &upper).unwrap();
             let slack = 1e-7 * (1.0 + g.norm());
             assert!(

@@ -1,5 +1,6 @@
-//! Inverse kinematics: Pinocchio frame Jacobians, one box-constrained QP per step (a dense
-//! active-set method, Clarabel as its fallback).
+//! Inverse kinematics: Pinocchio frame Jacobians, damped-least-squares steps, and a
+//! box-constrained QP (a dense active-set method, Clarabel as its fallback) for the steps that
+//! a joint limit or the trust region cuts.
 //!
 //! [`IkSolver`] places one frame of a [`kinscene_pinocchio::Model`] (for a robot, its tool
 //! frame) at an [`IkTarget`]: a full pose, or a position plus an approach axis with the roll

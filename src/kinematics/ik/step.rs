@@ -1,5 +1,6 @@
-//! One Levenberg–Marquardt step: its QP (from the linearised task) and the QP's minimiser, by
-//! the dense active-set method first and Clarabel when that cannot certify a minimiser.
+//! One Levenberg–Marquardt step: its QP (from the linearised task); the damped-least-squares
+//! step, projected into the bounds (the fast path); the QP's minimiser, by the dense
+//! active-set method first and Clarabel when that cannot certify a minimiser.
 
 use nalgebra::{DMatrix, DVector};
 
@@ -83,6 +84,9 @@ pub(crate) struct StepSolvers {
     clarabel: StepQp,
     /// Steps solved by Clarabel since the last [`StepSolvers::reset`].
     pub clarabel_steps: usize,
+    /// Steps that solved the QP (rather than taking the damped-least-squares step) since
+    /// the last [`StepSolvers::reset`].
+    pub qp_steps: usize,
 }
 
 impl StepSolvers {
@@ -92,15 +96,20 @@ impl StepSolvers {
             dense: DenseBoxQp::new(n),
             clarabel: StepQp::new(n),
             clarabel_steps: 0,
+            qp_steps: 0,
         }
     }
 
     pub fn reset(&mut self) {
         self.clarabel_steps = 0;
+        self.qp_steps = 0;
     }
 
-    /// The minimiser of `qp` with `solver` (the dense method falls back to Clarabel), written
-    /// into `dq`.
+    /// The minimiser of `qp`, written into `dq`. With [`StepSolver::DampedLeastSquares`] the
+    /// damped-least-squares step `−H⁻¹ g` when it lies within the bounds (then it is the
+    /// minimiser), else the dense active-set rounds continued from its factorisation; with
+    /// [`StepSolver::Dense`] the active-set method from the start. Either falls back to
+    /// Clarabel when it cannot certify a minimiser; [`StepSolver::Clarabel`] always uses it.
     ///
     /// # Errors
     /// Clarabel's [`IkError::QpSetup`] and [`IkError::QpFailed`].
@@ -110,6 +119,17 @@ impl StepSolvers {
         qp: &StepQpData,
         dq: &mut DVector<f64>,
     ) -> Result<(), IkError> {
+        if solver == StepSolver::DampedLeastSquares {
+            if let Some((x, unconstrained)) = self
+                .dense
+                .solve_unconstrained_first(&qp.h, &qp.g, &qp.lower, &qp.upper)
+            {
+                dq.copy_from(x);
+                self.qp_steps += usize::from(!unconstrained);
+                return Ok(());
+            }
+        }
+        self.qp_steps += 1;
         if solver == StepSolver::Dense {
             if let Some(x) = self.dense.solve(&qp.h, &qp.g, &qp.lower, &qp.upper) {
                 dq.copy_from(x);
@@ -162,5 +182,35 @@ mod tests {
             (dq[0] - 0.3).abs() < 1e-6 && (dq[1] - 0.3).abs() < 1e-6,
             "{dq}"
         );
+    }
+
+    /// The damped-least-squares step on a diagonal QP, whose unconstrained minimiser `−g/h`
+    /// is read off: inside the box it is taken as is, without the QP; beyond a bound the QP's
+    /// minimiser is taken, which for a diagonal H is the minimiser clamped into the box.
+    #[test]
+    fn the_dls_step_is_taken_only_within_the_bounds() {
+        let mut qp = StepQpData::new(3);
+        qp.h.fill_with_identity();
+        qp.lower.fill(-0.5);
+        qp.upper.fill(0.5);
+        let mut solvers = StepSolvers::new(3);
+        let mut dq = DVector::zeros(3);
+        qp.g.copy_from_slice(&[-0.1, 0.2, -0.3]);
+        solvers
+            .solve(StepSolver::DampedLeastSquares, &qp, &mut dq)
+            .unwrap();
+        assert_eq!(dq.as_slice(), &[0.1, -0.2, 0.3]);
+        assert_eq!(solvers.qp_steps, 0);
+        // −g = (1, 0.5, −0.25) against a joint limit 0.1 above coordinate 1 and one at
+        // coordinate 2's lower side, and the trust region 0.5 on coordinate 0.
+        qp.g.copy_from_slice(&[-1.0, -0.5, 0.25]);
+        qp.upper[1] = 0.1;
+        qp.lower[2] = 0.0;
+        solvers
+            .solve(StepSolver::DampedLeastSquares, &qp, &mut dq)
+            .unwrap();
+        assert_eq!(solvers.qp_steps, 1);
+        assert_eq!(solvers.clarabel_steps, 0);
+        assert!((dq - DVector::from_row_slice(&[0.5, 0.1, 0.0])).amax() < 1e-12);
     }
 }

@@ -5,7 +5,6 @@ use std::time::Instant;
 
 use kinscene_pinocchio as pin;
 use nalgebra::DVector;
-use pin::ReferenceFrame;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -20,12 +19,25 @@ const STALL_FACTOR: f64 = 0.9;
 /// See [`STALL_FACTOR`].
 const STALL_WINDOW: usize = 10;
 
-/// The best configuration seen so far and its errors.
+/// The best configuration seen so far and its errors (`score` infinite before the first).
 struct Best {
     q: DVector<f64>,
     score: f64,
     position_error: f64,
     rotation_error: f64,
+}
+
+impl Best {
+    /// Keeps q if its `score` (‖e‖²) beats the best so far: a copy into the buffer, no
+    /// allocation.
+    fn offer(&mut self, q: &DVector<f64>, score: f64, task: &Task) {
+        if score < self.score {
+            self.q.copy_from(q);
+            self.score = score;
+            self.position_error = task.position_error;
+            self.rotation_error = task.rotation_error;
+        }
+    }
 }
 
 /// What every attempt of one solve shares.
@@ -70,7 +82,12 @@ impl IkSolver {
         };
         let mut task = Task::new(target, self.support_v.len());
         let mut rng = ChaCha8Rng::seed_from_u64(self.settings.seed);
-        let mut best: Option<Best> = None;
+        let mut best = Best {
+            q: seed.clone(),
+            score: f64::INFINITY,
+            position_error: f64::INFINITY,
+            rotation_error: f64::INFINITY,
+        };
         let mut iterations = 0;
         let restarts = if near { 0 } else { self.settings.restarts };
         let mut ended_by = None;
@@ -86,6 +103,7 @@ impl IkSolver {
             data.last = IkStats {
                 steps: iterations,
                 clarabel_steps: data.steps.clarabel_steps,
+                qp_steps: data.steps.qp_steps,
                 attempts,
             };
             match ended? {
@@ -107,7 +125,6 @@ impl IkSolver {
                 Attempt::Stalled | Attempt::OutOfIterations => {}
             }
         }
-        let best = best.expect("every attempt evaluates its start");
         let best = IkBest {
             q: best.q,
             position_error: best.position_error,
@@ -157,9 +174,10 @@ impl IkSolver {
         task: &mut Task,
         mut q: DVector<f64>,
         iterations: &mut usize,
-        best: &mut Option<Best>,
+        best: &mut Best,
     ) -> Result<Attempt, IkError> {
-        let mut history: Vec<f64> = Vec::with_capacity(self.settings.max_iterations + 1);
+        // ‖e‖² of the last STALL_WINDOW steps, step k's at k % STALL_WINDOW.
+        let mut history = [0.0_f64; STALL_WINDOW];
         for step in 0..=self.settings.max_iterations {
             self.update_task(data, problem.target, &q, task)?;
             if task.position_error <= self.settings.position_tolerance
@@ -168,14 +186,7 @@ impl IkSolver {
                 return Ok(Attempt::Converged(q));
             }
             let score = task.residual.norm_squared();
-            if best.as_ref().is_none_or(|b| score < b.score) {
-                *best = Some(Best {
-                    q: q.clone(),
-                    score,
-                    position_error: task.position_error,
-                    rotation_error: task.rotation_error,
-                });
-            }
+            best.offer(&q, score, task);
             if step == self.settings.max_iterations {
                 return Ok(Attempt::OutOfIterations);
             }
@@ -185,12 +196,11 @@ impl IkSolver {
             if problem.deadline.is_some_and(|d| Instant::now() >= d) {
                 return Ok(Attempt::OutOfTime);
             }
-            history.push(score);
-            if step >= STALL_WINDOW
-                && score.sqrt() > STALL_FACTOR * history[step - STALL_WINDOW].sqrt()
-            {
+            let slot = &mut history[step % STALL_WINDOW];
+            if step >= STALL_WINDOW && score.sqrt() > STALL_FACTOR * (*slot).sqrt() {
                 return Ok(Attempt::Stalled);
             }
+            *slot = score;
             self.step(data, problem, &q, task)?;
             *iterations += 1;
             self.integrate(&mut q, &data.dq)?;
@@ -207,21 +217,20 @@ impl IkSolver {
         q: &DVector<f64>,
         task: &mut Task,
     ) -> Result<(), IkError> {
-        pin::forward_kinematics(&self.model, &mut data.data, q)?;
-        let pose = pin::frame_placement(&self.model, &data.data, self.frame)?;
-        let jacobian = pin::frame_jacobian(
+        let pose = pin::frame_placement_and_jacobian(
             &self.model,
             &mut data.data,
             q,
             self.frame,
-            ReferenceFrame::LocalWorldAligned,
+            &mut data.jacobian,
         )?;
-        task.update(target, &pose, &jacobian, &self.support_v);
+        task.update(target, &pose, &data.jacobian, &self.support_v);
         Ok(())
     }
 
-    /// The step at q into `data.dq` (over the step variables): the minimiser of the step QP
-    /// (see [`IkSolver`]).
+    /// The step at q into `data.dq` (over the step variables): the minimiser of the step QP,
+    /// as [`IkSettings::step_solver`](crate::kinematics::ik::IkSettings::step_solver) finds
+    /// it (see [`IkSolver`]).
     fn step(
         &self,
         data: &mut IkData,

@@ -1,11 +1,12 @@
-//! The solver: Levenberg–Marquardt steps, each one a box-constrained QP, with random restarts.
+//! The solver: Levenberg–Marquardt steps (damped least squares, or a box-constrained QP when a
+//! bound is active), with random restarts.
 
 mod attempt;
 mod coordinates;
 mod outcome;
 
 use kinscene_pinocchio as pin;
-use nalgebra::DVector;
+use nalgebra::{DMatrix, DVector};
 use pin::{FrameIndex, JointKind, Model};
 
 use super::step::{StepQpData, StepSolvers};
@@ -17,7 +18,8 @@ pub use outcome::{IkBest, IkFailure, IkOutcome, IkSolution, NoConvergence};
 /// Inverse kinematics of one frame of a Pinocchio model.
 ///
 /// Each iteration linearises the task at q with Pinocchio (frame placement and its
-/// `LOCAL_WORLD_ALIGNED` Jacobian) and solves the QP
+/// `LOCAL_WORLD_ALIGNED` Jacobian, one pass over the frame's support) and takes a step towards
+/// the minimiser of the QP
 ///
 /// ```text
 /// min_dq  ½‖J dq − e‖² + ½ λ‖dq‖²   (+ ½ μ‖N (q + dq − seed)‖² in solve_near)
@@ -31,13 +33,16 @@ pub use outcome::{IkBest, IkFailure, IkOutcome, IkSolution, NoConvergence};
 /// ranges over the velocity coordinates of the joints that move the frame (the others have
 /// zero Jacobian columns and no pull, so their step is 0 and they keep the seed's values).
 ///
-/// **The step's solver** ([`IkSettings::step_solver`]). By default
-/// ([`StepSolver::Dense`](super::StepSolver::Dense)) a dense active-set method on the bounds:
-/// with no bound active the minimiser is the damped-least-squares step `(JᵀJ + λI)⁻¹ Jᵀe`, one Cholesky factorisation of an n × n matrix (n ≤ ~10, well under a
-/// microsecond); a bound that the step would cross is fixed there and the rest re-solved, and
-/// the result is taken only with its KKT certificate (the QP is strictly convex, so that makes
-/// it the minimiser). When no certificate comes within a few rounds the step falls back to
-/// Clarabel (20–36 µs). Either way the step is the QP's minimiser.
+/// **The step** ([`IkSettings::step_solver`]): the QP's minimiser. By default
+/// ([`StepSolver::DampedLeastSquares`](super::StepSolver::DampedLeastSquares)) the fast path
+/// first: the damped-least-squares step `(JᵀJ + λI)⁻¹ Jᵀe` (one Cholesky factorisation of an
+/// n × n matrix, n ≤ ~10, well under a microsecond), which is the minimiser whenever it lies
+/// within the bounds. When it would cross a bound, the QP is solved
+/// ([`StepSolver::Dense`](super::StepSolver::Dense)) by a dense active-set method on the
+/// bounds: a bound that the step would cross is fixed there and the rest re-solved, and the
+/// result is taken only with its KKT certificate (the QP is strictly convex, so that makes it
+/// the minimiser). When no certificate comes within a few rounds the step falls back to
+/// Clarabel (20–36 µs).
 ///
 /// **Joint limits.** Revolute and prismatic coordinates stay within the model's position
 /// limits (the QP's constraints, then a clamp that removes the interior-point solver's ~1e-9
@@ -85,6 +90,8 @@ pub struct IkData {
     qp: StepQpData,
     /// The step over the step variables.
     dq: DVector<f64>,
+    /// The frame Jacobian (6 × nv).
+    jacobian: DMatrix<f64>,
     last: IkStats,
 }
 
@@ -100,6 +107,7 @@ impl IkData {
             steps: StepSolvers::new(n),
             qp: StepQpData::new(n),
             dq: DVector::zeros(n),
+            jacobian: DMatrix::zeros(6, solver.model.nv()),
             last: IkStats::default(),
         })
     }
@@ -119,6 +127,10 @@ pub struct IkStats {
     /// Of those, steps whose QP the dense method could not certify, solved by Clarabel (all of
     /// them with [`crate::kinematics::ik::StepSolver::Clarabel`]).
     pub clarabel_steps: usize,
+    /// Steps that solved the step QP (the dense method or Clarabel) rather than taking the
+    /// damped-least-squares step: every step with [`crate::kinematics::ik::StepSolver::Dense`]
+    /// or `Clarabel`; with `DampedLeastSquares` the steps that a bound cut.
+    pub qp_steps: usize,
     /// Attempts started: 1 for the seed plus the random restarts.
     pub attempts: usize,
 }
