@@ -2,4 +2,4 @@
 
 mod ik;
 mod robot;
-mod third_party;
+pub(crate) mod third_party;
