@@ -35,12 +35,15 @@ pub const SIDEWAYS_TOLERANCE: f64 = 1e-9;
 /// ```
 /// use kinscene::motion::timing::time_differential_drive;
 ///
-/// // Turn a quarter turn at 1 rad/s and 1 rad/s² (triangle: 2·√(π/2) s), then drive 2 m
-/// // along +y at 1 m/s and 1 m/s² (1 s up, 1 s coasting, 1 s down).
+/// // Turn a quarter turn at 1 rad/s and 1 rad/s² (trapezoid, since 1²/1 < π/2: π/2 + 1 s),
+/// // then drive 2 m along +y at 1 m/s and 1 m/s² (1 s up, 1 s coasting, 1 s down).
 /// let h = std::f64::consts::FRAC_PI_2;
 /// let path = vec![vec![0.0, 0.0, 0.0], vec![0.0, 0.0, h], vec![0.0, 2.0, h]];
 /// let timed = time_differential_drive(&path, &[1.0, 0.0, 1.0], &[1.0, 0.0, 1.0])?;
-/// assert!((timed.duration - (2.0 * h.sqrt() + 3.0)).abs() < 1e-12);
+/// assert!((timed.duration - (h + 1.0 + 3.0)).abs() < 1e-12);
+/// // Half-way along the drive, coasting at 1 m/s along the heading (+y), not sideways.
+/// let v = timed.velocity(h + 1.0 + 1.5);
+/// assert!(v[0].abs() < 1e-12 && (v[1] - 1.0).abs() < 1e-12 && v[2] == 0.0);
 /// # Ok::<(), kinscene::motion::timing::TimingError>(())
 /// ```
 pub fn time_differential_drive(
