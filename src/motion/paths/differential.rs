@@ -41,7 +41,10 @@ impl std::fmt::Display for DifferentialFailure {
 /// drive cannot follow them). For each segment the options are: drive forward or backward,
 /// each reached by turning the short or the long way round; they are tried in order of the
 /// angle turned (on the last segment, including the final turn), and the first whose pieces
-/// all pass `valid_motion(from, to)` is taken. `valid_motion` receives one piece at a time, a
+/// all pass `valid_motion(from, to)` is taken. When none on the last segment does (turning
+/// in place at the goal may collide), the base arrives straight in instead: to a point
+/// [`STRAIGHT_IN`] behind or in front of the goal along its yaw, turning there, then straight
+/// to the goal. `valid_motion` receives one piece at a time, a
 /// pure turn or a pure drive (turns of more than π included, the yaw unwrapped), and must
 /// check the robot along the whole piece (e.g. densely with
 /// [`first_invalid`](super::first_invalid)); zero-length pieces are not handed to it and not
@@ -116,6 +119,13 @@ pub fn differential_drive(
                 break;
             }
         }
+        // Turning in place at the goal may be what collides: arrive straight along its yaw.
+        let chosen = match (chosen, final_yaw) {
+            (None, Some(goal)) => {
+                straight_in(at, [next[0], next[1]], goal, valid_motion, &mut tried)
+            }
+            (chosen, _) => chosen,
+        };
         let Some(pieces) = chosen else {
             return Err(DifferentialFailure {
                 segment: k,
@@ -153,6 +163,44 @@ pub fn differential_drive(
         }
     }
     Ok(out)
+}
+
+/// How far back from the goal (m) along its yaw a straight-in arrival starts, nearest first.
+pub const STRAIGHT_IN: [f64; 2] = [0.3, 0.6];
+
+/// A straight-in arrival at `to` with yaw `goal`: to a point [`STRAIGHT_IN`] behind (or in
+/// front of) the goal along its yaw, as any segment (turn, drive), turn there to the goal's
+/// yaw, then drive forward (or backward) to the goal, with no turn at the goal. The first
+/// whose pieces all pass `valid_motion`; `tried` counts the options.
+fn straight_in(
+    at: [f64; 3],
+    to: [f64; 2],
+    goal: f64,
+    valid_motion: &dyn Fn(&[f64], &[f64]) -> bool,
+    tried: &mut usize,
+) -> Option<Vec<Vec<f64>>> {
+    for back in STRAIGHT_IN {
+        for sign in [1.0, -1.0] {
+            let via = [
+                to[0] - sign * back * goal.cos(),
+                to[1] - sign * back * goal.sin(),
+            ];
+            let (dx, dy) = (via[0] - at[0], via[1] - at[1]);
+            if dx.hypot(dy) <= SAME_POSITION {
+                continue;
+            }
+            for way in options(at[2], dy.atan2(dx), Some(goal)) {
+                *tried += 1;
+                let mut pieces = way.pieces(at, via, Some(goal));
+                let yaw = pieces.last().map_or(goal, |q| q[2]);
+                pieces.push(vec![to[0], to[1], yaw]);
+                if pieces.windows(2).all(|w| valid_motion(&w[0], &w[1])) {
+                    return Some(pieces);
+                }
+            }
+        }
+    }
+    None
 }
 
 fn same_yaw(a: f64, b: f64) -> bool {
@@ -276,6 +324,22 @@ mod tests {
         assert!(out.windows(2).all(|w| w[1][2] >= w[0][2]));
         assert!((turned / TAU - (turned / TAU).round()).abs() < 1e-12);
         assert_eq!(out.last().unwrap()[..2], [1.0, -1.0]);
+    }
+
+    #[test]
+    fn no_turn_at_the_goal_arrives_straight_in() {
+        // No turn within 0.1 m of the goal (1, 1), yaw 0: the base reaches (1, 1) driving
+        // along x, having turned 0.3 m before it (at (0.7, 1), the nearest straight-in start).
+        let path = vec![vec![0.0, 0.0, 0.0], vec![1.0, 1.0, 0.0]];
+        let near = |q: &[f64]| (q[0] - 1.0).hypot(q[1] - 1.0) < 0.1;
+        let valid = |a: &[f64], b: &[f64]| !(a[2] != b[2] && near(a));
+        let out = differential_drive(&path, &valid).unwrap();
+        no_sideways(&out);
+        let last = out.len() - 1;
+        assert_eq!(out[last][..2], [1.0, 1.0]);
+        assert!((out[last][2] / TAU - (out[last][2] / TAU).round()).abs() < 1e-12);
+        assert_eq!(out[last - 1][2], out[last][2]);
+        assert!((out[last - 1][0] - 0.7).abs() < 1e-12 && (out[last - 1][1] - 1.0).abs() < 1e-12);
     }
 
     #[test]

@@ -54,7 +54,7 @@ use std::time::Duration;
 
 use crate::InvalidSetting;
 
-pub use differential::{DifferentialFailure, SAME_POSITION, differential_drive};
+pub use differential::{DifferentialFailure, SAME_POSITION, STRAIGHT_IN, differential_drive};
 pub use error::PathError;
 pub use kinscene_ompl::Planner;
 pub use plan::{CONTINUOUS_JOINT_WINDOW, plan_arm, plan_base};
