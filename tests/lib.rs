@@ -4,7 +4,7 @@ mod articulation;
 mod backends;
 mod discovery;
 #[cfg(feature = "pinocchio")]
-mod kinematics;
+pub(crate) mod kinematics;
 #[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
 mod motion;
 #[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]

@@ -3,4 +3,4 @@
 mod ik;
 mod ik_fast;
 mod robot;
-mod third_party;
+pub(crate) mod third_party;

@@ -10,7 +10,7 @@ use kinscene::kinematics::robot::{
 };
 
 /// `share/example-robot-data` in the venv's cmeel prefix.
-fn example_robot_data() -> PathBuf {
+pub(crate) fn example_robot_data() -> PathBuf {
     let lib = Path::new(env!("CARGO_MANIFEST_DIR")).join(".deps/venv/lib");
     let found = std::fs::read_dir(&lib).ok().and_then(|entries| {
         entries
@@ -24,7 +24,7 @@ fn example_robot_data() -> PathBuf {
     found.unwrap_or_else(|| panic!("example-robot-data is not in {lib:?}: run `bash setup.sh`"))
 }
 
-fn options(tool: &str) -> RobotImportOptions {
+pub(crate) fn options(tool: &str) -> RobotImportOptions {
     let mut o = RobotImportOptions {
         tool_link: tool.to_string(),
         ..RobotImportOptions::default()

@@ -18,6 +18,7 @@
 //! kinematics (`kinscene::scene::forward_kinematics`, tests/scene).
 
 use std::fmt;
+use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
@@ -301,10 +302,96 @@ fn urdf_pose(pose: &urdf_rs::Pose) -> Isometry3<f64> {
     )
 }
 
-/// The robot's collision shapes, from `robots/kinova_gen3_mobile.urdf`: each anchored to the
-/// base or to the Pinocchio joint whose child link carries it (through fixed joints).
-fn robot_shapes(pin: &Model) -> Vec<RobotShape> {
-    let urdf = urdf_rs::read_file(ROBOT_URDF).expect("the robot's URDF parses");
+/// Where this file reads a robot's collision geometry: its URDF, the package roots of its mesh
+/// URIs, the movable joints the planner holds at a value (composed here as fixed joints at
+/// that value), and which collision elements are the gripper's contact shapes.
+pub(super) struct RobotGeometry {
+    /// The URDF file.
+    pub urdf: PathBuf,
+    /// `package://NAME/rest` resolves to `packages[NAME]/rest`.
+    pub packages: Vec<(String, PathBuf)>,
+    /// Movable joints that are not arm joints, with their values (rad or m).
+    pub frozen: Vec<(String, f64)>,
+    /// Whether the collision element `label` (its name, else `#index`) of `link` is contact
+    /// geometry.
+    pub contact: fn(&str, &str) -> bool,
+}
+
+impl RobotGeometry {
+    /// The shipped robot, `robots/kinova_gen3_mobile.urdf`: primitives only, nothing frozen,
+    /// the fingers of the Robotiq gripper as the contact shapes.
+    pub(super) fn gen3() -> RobotGeometry {
+        RobotGeometry {
+            urdf: PathBuf::from(ROBOT_URDF),
+            packages: Vec::new(),
+            frozen: Vec::new(),
+            contact: |link, label| link == FINGER_LINK && FINGERS.contains(&label),
+        }
+    }
+
+    /// The file a mesh URI names.
+    fn mesh_path(&self, uri: &str) -> PathBuf {
+        if let Some(rest) = uri.strip_prefix("package://") {
+            let (name, rest) = rest.split_once('/').expect("package://NAME/path");
+            let root = self
+                .packages
+                .iter()
+                .find(|(n, _)| n == name)
+                .unwrap_or_else(|| panic!("no package path for {name:?}"));
+            return root.1.join(rest);
+        }
+        let path = Path::new(uri.strip_prefix("file://").unwrap_or(uri));
+        match self.urdf.parent() {
+            Some(dir) if path.is_relative() => dir.join(path),
+            _ => path.to_path_buf(),
+        }
+    }
+
+    /// One convex hull per sub-mesh of the mesh file `uri` (mesh-loader reads it; parry builds
+    /// the hulls), scaled per axis.
+    fn mesh_hulls(&self, uri: &str, scale: [f64; 3]) -> Vec<Solid> {
+        let path = self.mesh_path(uri);
+        let scene = mesh_loader::Loader::default()
+            .load(&path)
+            .unwrap_or_else(|e| panic!("mesh {path:?}: {e}"));
+        scene
+            .meshes
+            .iter()
+            .filter(|m| m.vertices.len() >= 4)
+            .filter_map(|m| {
+                let points: Vec<Vector> = m
+                    .vertices
+                    .iter()
+                    .map(|v| {
+                        Vector::new(
+                            f64::from(v[0]) * scale[0],
+                            f64::from(v[1]) * scale[1],
+                            f64::from(v[2]) * scale[2],
+                        )
+                    })
+                    .collect();
+                ConvexPolyhedron::from_convex_hull(&points)
+                    .map(|hull| Solid::new(Box::new(hull), Isometry3::identity()))
+            })
+            .collect()
+    }
+}
+
+/// A URDF joint's motion at value `q`: a rotation about its axis (revolute, continuous) or a
+/// translation along it (prismatic), in the joint frame.
+fn joint_motion(joint: &urdf_rs::Joint, q: f64) -> Isometry3<f64> {
+    let [x, y, z] = joint.axis.xyz.0;
+    let axis = Vector3::new(x, y, z).normalize();
+    match joint.joint_type {
+        urdf_rs::JointType::Prismatic => Isometry3::translation(axis.x * q, axis.y * q, axis.z * q),
+        _ => Isometry3::rotation(axis * q),
+    }
+}
+
+/// The robot's collision shapes, from its URDF: each anchored to the base or to the Pinocchio
+/// joint whose child link carries it (through fixed and frozen joints).
+fn robot_shapes(pin: &Model, geometry: &RobotGeometry) -> Vec<RobotShape> {
+    let urdf = urdf_rs::read_file(&geometry.urdf).expect("the robot's URDF parses");
     // The root: the one link that is no joint's child. It is the mobile base.
     let roots: Vec<&urdf_rs::Link> = urdf
         .links
@@ -323,43 +410,69 @@ fn robot_shapes(pin: &Model) -> Vec<RobotShape> {
             .find(|l| l.name == name)
             .expect("every joint's child is a link");
         for (i, c) in link.collision.iter().enumerate() {
-            let solid = match &c.geometry {
+            let solids = match &c.geometry {
                 urdf_rs::Geometry::Box { size } => {
-                    Solid::cuboid(Vector3::new(size[0], size[1], size[2]) / 2.0)
+                    vec![Solid::cuboid(Vector3::new(size[0], size[1], size[2]) / 2.0)]
                 }
-                urdf_rs::Geometry::Cylinder { radius, length } => Solid::cylinder(*radius, *length),
-                urdf_rs::Geometry::Capsule { radius, length } => Solid::capsule(*radius, *length),
-                urdf_rs::Geometry::Sphere { radius } => Solid::ball(*radius),
-                urdf_rs::Geometry::Mesh { filename, .. } => {
-                    panic!("the robot's collision geometry is primitives, not {filename}")
+                urdf_rs::Geometry::Cylinder { radius, length } => {
+                    vec![Solid::cylinder(*radius, *length)]
+                }
+                urdf_rs::Geometry::Capsule { radius, length } => {
+                    vec![Solid::capsule(*radius, *length)]
+                }
+                urdf_rs::Geometry::Sphere { radius } => vec![Solid::ball(*radius)],
+                urdf_rs::Geometry::Mesh { filename, scale } => {
+                    let scale = scale.map_or([1.0; 3], |s| s.0);
+                    geometry.mesh_hulls(filename, scale)
                 }
             };
             let label = c.name.clone().unwrap_or_else(|| format!("#{i}"));
-            let contact = link.name == FINGER_LINK && FINGERS.contains(&label.as_str());
-            out.push(RobotShape {
-                name: format!("{}/{label}", link.name),
-                contact,
-                anchor,
-                anchor_from_shape: anchor_from_link * urdf_pose(&c.origin),
-                solid,
-            });
+            let contact = (geometry.contact)(&link.name, &label);
+            let several = solids.len() > 1;
+            for (m, solid) in solids.into_iter().enumerate() {
+                let name = if several {
+                    format!("{}/{label}.{m}", link.name)
+                } else {
+                    format!("{}/{label}", link.name)
+                };
+                out.push(RobotShape {
+                    name,
+                    contact,
+                    anchor,
+                    anchor_from_shape: anchor_from_link * urdf_pose(&c.origin),
+                    solid,
+                });
+            }
         }
         for joint in urdf.joints.iter().filter(|j| j.parent.link == name) {
             let child = joint.child.link.clone();
-            match joint.joint_type {
-                urdf_rs::JointType::Fixed => {
+            let frozen = geometry.frozen.iter().find(|(n, _)| *n == joint.name);
+            match (&joint.joint_type, frozen) {
+                (urdf_rs::JointType::Fixed, _) => {
                     todo.push((child, anchor, anchor_from_link * urdf_pose(&joint.origin)));
                 }
-                urdf_rs::JointType::Revolute
-                | urdf_rs::JointType::Continuous
-                | urdf_rs::JointType::Prismatic => {
+                (
+                    urdf_rs::JointType::Revolute
+                    | urdf_rs::JointType::Continuous
+                    | urdf_rs::JointType::Prismatic,
+                    Some(&(_, value)),
+                ) => {
+                    let at = urdf_pose(&joint.origin) * joint_motion(joint, value);
+                    todo.push((child, anchor, anchor_from_link * at));
+                }
+                (
+                    urdf_rs::JointType::Revolute
+                    | urdf_rs::JointType::Continuous
+                    | urdf_rs::JointType::Prismatic,
+                    None,
+                ) => {
                     let index = pin
                         .joint_index(&joint.name)
                         .unwrap_or_else(|| panic!("arm joint {:?} in Pinocchio", joint.name));
                     moving += 1;
                     todo.push((child, Anchor::Joint(index), Isometry3::identity()));
                 }
-                ref other => panic!("joint {:?}: unexpected type {other:?}", joint.name),
+                (other, _) => panic!("joint {:?}: unexpected type {other:?}", joint.name),
             }
         }
     }
@@ -368,8 +481,7 @@ fn robot_shapes(pin: &Model) -> Vec<RobotShape> {
         pin.njoints(),
         "every Pinocchio joint (besides the universe) is a URDF joint"
     );
-    let fingers = out.iter().filter(|s| s.contact).count();
-    assert_eq!(fingers, FINGERS.len(), "both fingers found");
+    assert!(out.iter().any(|s| s.contact), "contact shapes found");
     out
 }
 
@@ -478,7 +590,11 @@ struct Checker<'a> {
 }
 
 impl<'a> Checker<'a> {
-    fn new(planner: &'a HierarchicalPlanner, model: &'a SceneModel) -> Checker<'a> {
+    fn new(
+        planner: &'a HierarchicalPlanner,
+        model: &'a SceneModel,
+        geometry: &RobotGeometry,
+    ) -> Checker<'a> {
         let pin = planner.robot().pinocchio();
         let bodies = scene_bodies(model);
         let n = bodies.len();
@@ -486,7 +602,7 @@ impl<'a> Checker<'a> {
             model,
             pin,
             data: Data::new(pin).expect("Pinocchio data"),
-            robot: robot_shapes(pin),
+            robot: robot_shapes(pin, geometry),
             bodies,
             scene: SceneData::new(model),
             grasped: vec![false; n],
@@ -738,7 +854,18 @@ pub(super) fn recheck(
     start: &State,
     plan: &MotionPlan,
 ) -> Result<Report, Violation> {
-    let mut c = Checker::new(planner, model);
+    recheck_robot(&RobotGeometry::gen3(), planner, model, start, plan)
+}
+
+/// [`recheck`] for the robot whose geometry `geometry` describes (the planner's robot).
+pub(super) fn recheck_robot(
+    geometry: &RobotGeometry,
+    planner: &HierarchicalPlanner,
+    model: &SceneModel,
+    start: &State,
+    plan: &MotionPlan,
+) -> Result<Report, Violation> {
+    let mut c = Checker::new(planner, model, geometry);
     let stow: Vec<f64> = planner.stow().iter().copied().collect();
     let mut state = start.clone();
     for (index, step) in plan.steps.iter().enumerate() {
@@ -843,7 +970,7 @@ fn drawer() -> &'static (SceneModel, Problem, HierarchicalPlanner, MotionPlan) {
 
 /// The robot shape names of the URDF (for the corrupted plans' verdicts).
 fn robot_shape_names(planner: &HierarchicalPlanner) -> Vec<String> {
-    robot_shapes(planner.robot().pinocchio())
+    robot_shapes(planner.robot().pinocchio(), &RobotGeometry::gen3())
         .into_iter()
         .map(|s| s.name)
         .collect()
@@ -860,7 +987,7 @@ fn the_robot_geometry_read_here_is_the_urdf_s() {
     // loader).
     let planner = super::planner();
     let pin = planner.robot().pinocchio();
-    let shapes = robot_shapes(pin);
+    let shapes = robot_shapes(pin, &RobotGeometry::gen3());
     assert_eq!(shapes.len(), 12);
     let contact: Vec<&str> = shapes
         .iter()
@@ -1109,7 +1236,7 @@ fn self_collision_verdicts_agree_with_an_srdf_check() {
     let robot = RobotModel::kinova_gen3_mobile();
     let collision = RobotCollision::new(&robot).unwrap();
     let pin = robot.pinocchio();
-    let shapes = robot_shapes(pin);
+    let shapes = robot_shapes(pin, &RobotGeometry::gen3());
     let srdf = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/robots/kinova_gen3_mobile.srdf"

@@ -1,6 +1,7 @@
 //! The hierarchical planner end to end: task order, placement, OMPL paths, timing.
 
 mod contact;
+mod differential;
 mod reach;
 mod segments;
 

@@ -34,6 +34,8 @@ pub struct RobotArgs<'a> {
     pub tool_approach: Option<[f64; 3]>,
     /// `package://NAME` roots for the robot's meshes.
     pub packages: &'a [(String, std::path::PathBuf)],
+    /// How the base moves (`--base`).
+    pub base: crate::plan::BaseArg,
 }
 
 /// Plans with motion for `robot` (a URDF path, or `gen3`) and writes the document to
@@ -146,6 +148,15 @@ mod imp {
                     .with_computed_stow(&StowSearch::default())
                     .and_then(|r| r.with_sampled_pairs(&PairSampling::default()))
                     .map_err(|e| CliError::new(format!("{}: {e}", robot.path.display())))?,
+            }
+        };
+        let robot_model = match robot.base {
+            crate::plan::BaseArg::Holonomic => robot_model,
+            crate::plan::BaseArg::Differential => {
+                let base = robot_model.base().to_differential_drive();
+                robot_model
+                    .with_base(base)
+                    .map_err(|e| CliError::new(format!("{}: {e}", robot.path.display())))?
             }
         };
         let name = robot_model.name().to_string();

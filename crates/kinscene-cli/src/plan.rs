@@ -1,5 +1,6 @@
 //! `kinscene plan --scene S.urdf --goal G.toml [--budget 10s] [--out plan.json]
-//! [--strategy search|random|paper] [--seed N] [--robot URDF|gen3] [--max-segments N]
+//! [--strategy search|random|paper] [--seed N] [--robot URDF|gen3]
+//! [--base holonomic|differential] [--max-segments N]
 //! [--tool-link LINK] [--srdf FILE]
 //! [--arm-root LINK] [--frozen JOINT=VALUE ...] [--contact-link LINK ...] [--tool-approach X,Y,Z]
 //! [--package NAME=PATH ...]`:
@@ -96,6 +97,11 @@ pub struct Args {
     /// robot's start pose (`[robot] base = [x, y, yaw]`).
     #[arg(long, value_name = "URDF|gen3")]
     robot: Option<PathBuf>,
+    /// With a robot: how its base moves. `holonomic` drives in any direction; `differential`
+    /// (TIAGo, Fetch, Stretch) turns in place and drives straight, forward or backward, never
+    /// sideways, with the base's x limits as its forward limits.
+    #[arg(long, value_enum, default_value_t = BaseArg::Holonomic, requires = "robot")]
+    base: BaseArg,
     /// With a robot: the most segments one step may be split into when no single base pose
     /// covers it (the robot lets go, drives to another base pose and grasps again in between);
     /// 1 keeps every step to one base pose [default: 4].
@@ -161,6 +167,15 @@ fn parse_frozen(s: &str) -> Result<(String, f64), String> {
         },
         _ => Err(format!("expected JOINT=VALUE, got {s:?}")),
     }
+}
+
+/// `--base`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum BaseArg {
+    /// Omnidirectional: x, y and yaw independently.
+    Holonomic,
+    /// Differential drive: turns in place and straight drives.
+    Differential,
 }
 
 /// `--strategy`.
@@ -235,6 +250,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<Verdict, CliError> {
             contact_links: &args.contact_links,
             tool_approach: args.tool_approach,
             packages: &args.input.packages,
+            base: args.base,
         };
         return crate::motion::run(
             &robot,

@@ -632,6 +632,76 @@ fn plan_with_a_robot_writes_base_and_arm_paths_with_timing() {
     assert!(doc["duration"].as_f64().unwrap() > 0.0);
 }
 
+/// `--base differential`: the Gen3 starts 0.6 m to the side of the drawer, facing the
+/// counter; every piece of every base path in the document is a turn in place or a drive
+/// along the heading (checked here from the positions: the displacement across the heading
+/// below 1e-9 m, and no turn while driving). A base kind clap does not know, or `--base`
+/// without `--robot`, is a usage error.
+#[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
+#[test]
+fn plan_with_a_differential_base_never_moves_sideways() {
+    let scene = counter_path();
+    let goal = scratch_file(
+        "counter_goal_differential.toml",
+        "[goal]\ndrawer_slide = { min = 0.25 }\n[robot]\nbase = [-1.1, 0.6, 0.0]\n",
+    );
+    let out = scratch_file("counter_motion_differential.json", "");
+    let mut args = vec!["plan", "--scene", arg(&scene), "--goal", arg(&goal)];
+    args.extend([
+        "--robot",
+        "gen3",
+        "--base",
+        "differential",
+        "--budget",
+        "60s",
+    ]);
+    args.extend(["--out", arg(&out)]);
+    let output = kinscene(&args);
+    assert_eq!(
+        output.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let doc: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let mut pieces = 0;
+    for m in doc["motion"].as_array().unwrap() {
+        let positions: Vec<[f64; 3]> = m["base_path"]["positions"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(vec3)
+            .collect();
+        for w in positions.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+            let lateral = -a[2].sin() * dx + a[2].cos() * dy;
+            assert!(lateral.abs() < 1e-9, "{a:?} -> {b:?}");
+            if dx.hypot(dy) > 1e-9 {
+                assert!(
+                    (b[2] - a[2]).abs() < 1e-9,
+                    "turns while driving: {a:?} -> {b:?}"
+                );
+            }
+            pieces += 1;
+        }
+    }
+    assert!(
+        pieces >= 2,
+        "the base had to turn and drive: {pieces} pieces"
+    );
+
+    for extra in [
+        &["--robot", "gen3", "--base", "sideways"][..],
+        &["--base", "differential"][..],
+    ] {
+        let output = plan_kitchen(&goal_path("dishwasher.toml"), extra);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{extra:?}: {stderr}");
+        assert!(stderr.contains("--base"), "{extra:?}: {stderr}");
+    }
+}
+
 #[test]
 fn max_segments_is_a_positive_count_for_a_robot() {
     // 0 segments cannot cover a step; without --robot there is no motion to segment.

@@ -1,4 +1,5 @@
-//! The mobile manipulator: a holonomic base carrying a serial arm, loaded from URDF.
+//! The mobile manipulator: a mobile base (holonomic or differential drive) carrying a serial
+//! arm, loaded from URDF.
 //!
 //! [`RobotModel`] is parsed with urdf-rs; its arm is also built as a Pinocchio model with
 //! `ModelBuilder` from the parsed data (not with Pinocchio's own URDF parser), for Jacobians and
@@ -66,11 +67,13 @@
 //!   [`RobotModel::to_srdf`]. A robot loaded from a URDF alone has none, and its
 //!   [`RobotCollision`] guesses them from a single pose (adjacent links and the pairs touching
 //!   at the neutral configuration).
-//! - **Base limits.** URDF has no base description: the base is [`BaseKind::Holonomic`] with
-//!   [`DEFAULT_BASE_VELOCITY`] (0.5 m/s in x and y, 1.0 rad/s in yaw) and
-//!   [`DEFAULT_BASE_ACCELERATION`] (0.5 m/s², 1.0 rad/s²); its footprint radius is computed
-//!   from the collision geometry at [`RobotModel::neutral`]. Replace them with
-//!   [`RobotModel::with_base`].
+//! - **Base kind and limits.** URDF has no base description: the base is
+//!   [`BaseKind::Holonomic`] with [`DEFAULT_BASE_VELOCITY`] (0.5 m/s in x and y, 1.0 rad/s in
+//!   yaw) and [`DEFAULT_BASE_ACCELERATION`] (0.5 m/s², 1.0 rad/s²); its footprint radius is
+//!   computed from the collision geometry at [`RobotModel::neutral`]. Replace them with
+//!   [`RobotModel::with_base`], e.g. with [`BaseKind::DifferentialDrive`] for TIAGo, Fetch or
+//!   Stretch ([`MobileBase::to_differential_drive`] keeps the x limits as the forward limits):
+//!   its base paths then turn in place and drive straight, never sideways.
 //!
 //! No input makes the loader panic: every check above is a typed [`RobotError`].
 //!

@@ -8,6 +8,10 @@
 //! simplifier are OMPL's. Bad input is a [`PathError`]; not finding a path is a
 //! [`PathOutcome`].
 //!
+//! [`differential_drive`] turns an SE(2) path into turn-in-place and drive-straight pieces for
+//! a differential-drive base ([`BaseKind::DifferentialDrive`](crate::kinematics::robot::BaseKind)),
+//! each piece checked by the caller's motion check.
+//!
 //! [`first_invalid`] re-checks a returned path with code that shares nothing with OMPL's motion
 //! validator: every segment is sampled at a fixed spacing and handed to the closure.
 //!
@@ -41,6 +45,7 @@
 //! # Ok::<(), kinscene::motion::paths::PathError>(())
 //! ```
 
+mod differential;
 mod error;
 mod plan;
 mod recheck;
@@ -49,6 +54,7 @@ use std::time::Duration;
 
 use crate::InvalidSetting;
 
+pub use differential::{DifferentialFailure, SAME_POSITION, STRAIGHT_IN, differential_drive};
 pub use error::PathError;
 pub use kinscene_ompl::Planner;
 pub use plan::{CONTINUOUS_JOINT_WINDOW, plan_arm, plan_base};

@@ -56,6 +56,20 @@ pub enum TimingError {
         /// The waypoints' length.
         dimension: usize,
     },
+    /// A segment of a differential-drive base path is neither a turn in place nor a drive
+    /// along the heading (see [`time_differential_drive`](super::time_differential_drive)).
+    #[error(
+        "segment {segment} moves the base sideways by {lateral:.3e} m or turns by {turn:.3e} rad \
+         while driving: a differential-drive base turns in place or drives straight"
+    )]
+    Sideways {
+        /// Index of the segment (waypoint `segment` to `segment + 1`).
+        segment: usize,
+        /// Its displacement across the heading (m).
+        lateral: f64,
+        /// Its change of yaw (rad).
+        turn: f64,
+    },
     /// A [`BlendSettings`](super::BlendSettings) value is not positive and finite.
     #[error("{0}")]
     InvalidSetting(#[from] crate::InvalidSetting),

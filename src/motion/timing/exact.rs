@@ -24,8 +24,34 @@ pub fn time_parameterise(
     wrap_yaw: Option<usize>,
 ) -> Result<TimedPath, TimingError> {
     validate(path, max_velocity, max_acceleration, wrap_yaw)?;
-    let deltas: Vec<Vec<f64>> = path
-        .windows(2)
+    let deltas = deltas(path, wrap_yaw);
+    Ok(profile(
+        path,
+        &deltas,
+        &|run: &[(&[f64], f64)], total: f64| {
+            // Per coordinate: the largest |unit direction| over the run, times the run length,
+            // is the coordinate's distance per unit of s.
+            let mut speed = f64::INFINITY;
+            let mut accel = f64::INFINITY;
+            for i in 0..max_velocity.len() {
+                let m = run
+                    .iter()
+                    .filter(|(_, l)| *l > 0.0)
+                    .map(|(d, l)| d[i].abs() / l)
+                    .fold(0.0, f64::max);
+                if m > 0.0 {
+                    speed = speed.min(max_velocity[i] / (total * m));
+                    accel = accel.min(max_acceleration[i] / (total * m));
+                }
+            }
+            (speed, accel)
+        },
+    ))
+}
+
+/// The differences between consecutive waypoints, coordinate `wrap_yaw` wrapped into `[-π, π]`.
+pub(super) fn deltas(path: &[Vec<f64>], wrap_yaw: Option<usize>) -> Vec<Vec<f64>> {
+    path.windows(2)
         .map(|w| {
             w[0].iter()
                 .zip(&w[1])
@@ -40,7 +66,20 @@ pub fn time_parameterise(
                 })
                 .collect()
         })
-        .collect();
+        .collect()
+}
+
+/// Limits of one run: its segments' `(delta, length)` and its total length give the largest
+/// `ṡ` and `s̈` (s from 0 to 1 over the run).
+pub(super) type RunLimits<'a> = dyn Fn(&[(&[f64], f64)], f64) -> (f64, f64) + 'a;
+
+/// The exact profile of `path` (segments `deltas`), rest to rest along each run of collinear
+/// segments, each run under the `ṡ`, `s̈` limits `run_limits` gives.
+pub(super) fn profile(
+    path: &[Vec<f64>],
+    deltas: &[Vec<f64>],
+    run_limits: &RunLimits<'_>,
+) -> TimedPath {
     let lengths: Vec<f64> = deltas.iter().map(|d| norm(d)).collect();
 
     // Runs of segments sharing a direction: [first, end) segment ranges.
@@ -78,20 +117,10 @@ pub fn time_parameterise(
     for &(first, end) in &ranges {
         let total: f64 = lengths[first..end].iter().sum();
         let ramp = if total > 0.0 {
-            // Per coordinate: the largest |unit direction| over the run, times the run length,
-            // is the coordinate's distance per unit of s.
-            let mut speed = f64::INFINITY;
-            let mut accel = f64::INFINITY;
-            for i in 0..max_velocity.len() {
-                let m = (first..end)
-                    .filter(|&j| lengths[j] > 0.0)
-                    .map(|j| deltas[j][i].abs() / lengths[j])
-                    .fold(0.0, f64::max);
-                if m > 0.0 {
-                    speed = speed.min(max_velocity[i] / (total * m));
-                    accel = accel.min(max_acceleration[i] / (total * m));
-                }
-            }
+            let run: Vec<(&[f64], f64)> = (first..end)
+                .map(|j| (deltas[j].as_slice(), lengths[j]))
+                .collect();
+            let (speed, accel) = run_limits(&run, total);
             Ramp::rest_to_rest(clock, speed, accel)
         } else {
             Ramp::empty(clock)
@@ -119,15 +148,15 @@ pub fn time_parameterise(
         clock = clock.max(ramp.end());
         runs.push(ramp);
     }
-    Ok(TimedPath {
+    TimedPath {
         duration: clock,
         times,
         positions: path.to_vec(),
         profile: Profile::Exact { segments, runs },
-    })
+    }
 }
 
-fn validate(
+pub(super) fn validate(
     path: &[Vec<f64>],
     max_velocity: &[f64],
     max_acceleration: &[f64],

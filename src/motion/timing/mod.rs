@@ -8,6 +8,9 @@
 //! [`BlendSettings::max_deviation`] and passes it without stopping, under the same limits
 //! (see [Corner blending](#corner-blending-time_optimal)).
 //!
+//! [`time_differential_drive`] times a differential-drive base path (turns in place and straight
+//! drives) exactly, under the forward speed and the yaw rate instead of per axis.
+//!
 //! # The profile
 //! The path is cut into *runs*: maximal sequences of segments with the same direction (unit
 //! vectors within [`COLLINEAR_TOLERANCE`]; zero-length segments join any run). Each run is
@@ -101,6 +104,7 @@
 //! [`time_parameterise`]'s, that exact profile is returned: `time_optimal` is never slower.
 
 mod blend;
+mod differential;
 mod error;
 mod exact;
 mod optimal;
@@ -108,6 +112,7 @@ mod phase;
 mod ramp;
 mod timed_path;
 
+pub use differential::{SIDEWAYS_TOLERANCE, time_differential_drive};
 pub use error::TimingError;
 pub use exact::time_parameterise;
 pub use optimal::{BlendSettings, time_optimal};

@@ -3,7 +3,13 @@
 //! The robot executes a step in five phases, one after the other:
 //! 1. **base**: it drives from its pose to the placement's base pose with the arm stowed
 //!    (OMPL in SE(2); the whole robot — base and stowed arm — against the base map and the parts
-//!    at the current state, with the planner's margin);
+//!    at the current state, with the planner's margin). A differential-drive base follows the
+//!    SE(2) path's positions by turning in place and driving straight
+//!    ([`differential_drive`](crate::motion::paths::differential_drive)), every turn and drive
+//!    checked densely with the same whole-robot check; if no such motion follows one SE(2) path,
+//!    up to two more are planned (next seeds). Its path is timed exactly, without blends, under
+//!    the forward speed and yaw rate
+//!    ([`time_differential_drive`](crate::motion::timing::time_differential_drive));
 //! 2. **approach**: the arm moves from the stowed configuration to the *pre-grasp*
 //!    configuration (OMPL in joint space; nothing exempt: every robot shape keeps the margin
 //!    from every body, the part about to be grasped included), then straight in along the

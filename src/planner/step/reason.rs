@@ -5,7 +5,7 @@
 
 use std::fmt;
 
-use crate::motion::paths::PathFailure;
+use crate::motion::paths::{DifferentialFailure, PathFailure};
 use crate::motion::placement::{Obstacle, PlacementOutcome, WaypointFailure};
 
 /// A path of a step: which motion a planner or a re-check worked on.
@@ -234,6 +234,12 @@ pub enum StepReason {
         /// Cancelled rather than out of budget.
         cancelled: bool,
     },
+    /// No SE(2) base path tried could be followed by turning in place and driving straight
+    /// (a differential-drive base): why each failed.
+    NoDifferentialPath {
+        /// One failure per SE(2) path tried.
+        failures: Vec<DifferentialFailure>,
+    },
     /// The dense re-check of a returned path found a collision.
     Collision {
         /// Which path.
@@ -279,6 +285,16 @@ impl fmt::Display for StepReason {
                 path,
                 cancelled: true,
             } => write!(f, "{path} path: cancelled"),
+            StepReason::NoDifferentialPath { failures } => {
+                f.write_str("differential drive: ")?;
+                for (k, why) in failures.iter().enumerate() {
+                    if k > 0 {
+                        f.write_str("; ")?;
+                    }
+                    write!(f, "SE(2) path {}: {why}", k + 1)?;
+                }
+                Ok(())
+            }
             StepReason::Collision {
                 path,
                 segment,

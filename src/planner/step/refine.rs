@@ -7,8 +7,8 @@ use super::{
     Check, Contact, Failed, FailedSegment, StepContext, StepMotion, StepPath, StepReason,
     StepTiming, grasped, grid_bounds, path_or_reason, same_pose,
 };
-use crate::kinematics::robot::{Exempt, RobotConfig};
-use crate::motion::paths::{first_invalid, plan_base};
+use crate::kinematics::robot::{BaseKind, Exempt, RobotConfig};
+use crate::motion::paths::{differential_drive, first_invalid, plan_base};
 use crate::motion::placement::{
     JointMotion, Obstacle, PlacementOutcome, PlacementProblem, PlacementSettings, place_and_plan,
 };
@@ -17,6 +17,11 @@ use crate::planner::{PlannerError, StepFailure};
 use crate::scene::collision::Body;
 use crate::scene::{HandleId, JointId, PartId, SceneData, State, forward_kinematics};
 use crate::task::Step;
+
+/// How many SE(2) base paths are planned for a differential-drive base before the base path
+/// fails: each is turned into turn-and-drive pieces, which may collide where the SE(2) path
+/// did not (the robot turns in place, and drives at its heading rather than the path's yaws).
+pub(super) const DIFFERENTIAL_ATTEMPTS: u64 = 3;
 
 /// One segment of a step being refined (the whole step when it is not segmented): its
 /// context, the scene at the segment's start state and the parts the gripper holds.
@@ -261,62 +266,119 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
     }
 
     /// The base path from `from` to `to`, arm stowed, the whole robot against the scene at the
-    /// step's start state, densely re-checked (yaw scaled by the footprint radius).
+    /// step's start state, densely re-checked (yaw scaled by the footprint radius). For a
+    /// differential-drive base the SE(2) path is turned into turn-in-place and drive-straight
+    /// pieces ([`differential_drive`], each piece checked densely); when no such pieces follow
+    /// it, another SE(2) path is planned (seed + 1, ...), up to [`DIFFERENTIAL_ATTEMPTS`] in all.
     fn base_path(
         &self,
         from: [f64; 3],
         to: [f64; 3],
     ) -> Result<Result<Vec<Vec<f64>>, Failed>, PlannerError> {
-        let ctx = self.ctx;
-        let settings = ctx.settings;
-        let base_valid = |b: &[f64; 3]| self.base_valid(b);
-        let base_path = if same_pose(&from, &to) {
-            vec![from.to_vec(), to.to_vec()]
-        } else {
-            let outcome = plan_base(
-                from,
-                to,
-                grid_bounds(ctx.model),
-                &base_valid,
-                &settings.paths,
-                ctx.termination,
-            )?;
-            match path_or_reason(outcome, StepPath::Base) {
-                Ok(p) => p,
-                Err(reason) => {
-                    let check = if ctx.termination.should_stop() {
-                        Check::Stopped
-                    } else {
-                        Check::BasePath
-                    };
-                    return Ok(Err(self.fail(check, *reason)));
-                }
-            }
+        let differential = match self.ctx.robot.base().kind {
+            BaseKind::Holonomic => false,
+            BaseKind::DifferentialDrive => true,
         };
-        let radius = ctx.robot.base().footprint_radius.max(1e-3);
-        let scaled: Vec<Vec<f64>> = base_path
+        let attempts = if differential {
+            DIFFERENTIAL_ATTEMPTS
+        } else {
+            1
+        };
+        let mut failures = Vec::new();
+        for attempt in 0..attempts {
+            let planned = match self.se2_path(from, to, attempt)? {
+                Ok(p) => p,
+                Err(f) => return Ok(Err(f)),
+            };
+            let path = if differential {
+                let valid =
+                    |a: &[f64], b: &[f64]| self.base_collision(&[a.to_vec(), b.to_vec()]).is_none();
+                match differential_drive(&planned, &valid) {
+                    Ok(p) => p,
+                    Err(why) => {
+                        failures.push(why);
+                        if self.ctx.termination.should_stop() {
+                            break;
+                        }
+                        continue;
+                    }
+                }
+            } else {
+                planned
+            };
+            if let Some((segment, at)) = self.base_collision(&path) {
+                let contact = self.base_contact(&[at[0], at[1], at[2]]);
+                return Ok(Err(self.fail(
+                    Check::BasePath,
+                    StepReason::Collision {
+                        path: StepPath::Base,
+                        segment,
+                        at,
+                        scene_joint: None,
+                        contact,
+                    },
+                )));
+            }
+            return Ok(Ok(path));
+        }
+        let check = if self.ctx.termination.should_stop() {
+            Check::Stopped
+        } else {
+            Check::BasePath
+        };
+        Ok(Err(
+            self.fail(check, StepReason::NoDifferentialPath { failures })
+        ))
+    }
+
+    /// An SE(2) base path from `from` to `to` (OMPL, the path settings' seed plus `attempt`).
+    fn se2_path(
+        &self,
+        from: [f64; 3],
+        to: [f64; 3],
+        attempt: u64,
+    ) -> Result<Result<Vec<Vec<f64>>, Failed>, PlannerError> {
+        let ctx = self.ctx;
+        if same_pose(&from, &to) {
+            return Ok(Ok(vec![from.to_vec(), to.to_vec()]));
+        }
+        let mut settings = ctx.settings.paths.clone();
+        settings.seed = settings.seed.map(|s| s.wrapping_add(attempt));
+        let base_valid = |b: &[f64; 3]| self.base_valid(b);
+        let outcome = plan_base(
+            from,
+            to,
+            grid_bounds(ctx.model),
+            &base_valid,
+            &settings,
+            ctx.termination,
+        )?;
+        Ok(path_or_reason(outcome, StepPath::Base).map_err(|reason| {
+            let check = if ctx.termination.should_stop() {
+                Check::Stopped
+            } else {
+                Check::BasePath
+            };
+            self.fail(check, *reason)
+        }))
+    }
+
+    /// The first base pose along `path` (straight segments, yaw not wrapped) where the robot
+    /// with the arm stowed is not [`base_valid`](Self::base_valid), sampled at the planner's
+    /// base resolution with the yaw scaled by the footprint radius: the segment and the pose.
+    pub(super) fn base_collision(&self, path: &[Vec<f64>]) -> Option<(usize, Vec<f64>)> {
+        let radius = self.ctx.robot.base().footprint_radius.max(1e-3);
+        let scaled: Vec<Vec<f64>> = path
             .iter()
             .map(|p| vec![p[0], p[1], p[2] * radius])
             .collect();
-        let base_valid_scaled = |p: &[f64]| self.base_valid(&[p[0], p[1], p[2] / radius]);
-        if let Some((segment, at)) = first_invalid(
+        let valid = |p: &[f64]| self.base_valid(&[p[0], p[1], p[2] / radius]);
+        first_invalid(
             &scaled,
-            settings.base_check_resolution,
+            self.ctx.settings.base_check_resolution,
             false,
-            &base_valid_scaled,
-        ) {
-            let pose = [at[0], at[1], at[2] / radius];
-            return Ok(Err(self.fail(
-                Check::BasePath,
-                StepReason::Collision {
-                    path: StepPath::Base,
-                    segment,
-                    at: pose.to_vec(),
-                    scene_joint: None,
-                    contact: self.base_contact(&pose),
-                },
-            )));
-        }
-        Ok(Ok(base_path))
+            &valid,
+        )
+        .map(|(seg, at)| (seg, vec![at[0], at[1], at[2] / radius]))
     }
 }

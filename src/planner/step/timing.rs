@@ -1,14 +1,15 @@
 //! The timing of a step's phases.
 
 use super::refine::{ArmPaths, Placed, StepRefinement};
-use crate::kinematics::robot::Exempt;
-use crate::motion::timing::{BlendSettings, TimedPath};
+use crate::kinematics::robot::{BaseKind, Exempt};
+use crate::motion::timing::{BlendSettings, TimedPath, time_differential_drive};
 use crate::planner::PlannerError;
 use crate::planner::timed::{timed, value_at};
 use crate::scene::{SceneData, forward_kinematics};
 
 impl StepRefinement<'_, '_> {
-    /// Times the base path and the arm's phases: without stops at the corners where the
+    /// Times the base path and the arm's phases (a differential-drive base path exactly, with
+    /// [`time_differential_drive`]): without stops at the corners where the
     /// blended trajectory passes the same checks as the path, sampled densely; else with stops,
     /// exactly on the checked path. Base, approach, manipulation, retreat.
     pub(super) fn time(
@@ -24,14 +25,21 @@ impl StepRefinement<'_, '_> {
         let grasp = Exempt::Grasp(&self.grasped);
         let b = ctx.robot.base();
         let blend = settings.blend.as_ref();
-        let base_timed = timed(
-            base_path,
-            (&b.max_velocity, &b.max_acceleration),
-            Some(2),
-            blend,
-            settings.base_check_resolution,
-            &|_, _, p| self.base_valid(&[p[0], p[1], p[2]]),
-        )?;
+        let base_timed = match b.kind {
+            BaseKind::Holonomic => timed(
+                base_path,
+                (&b.max_velocity, &b.max_acceleration),
+                Some(2),
+                blend,
+                settings.base_check_resolution,
+                &|_, _, p| self.base_valid(&[p[0], p[1], p[2]]),
+            )?,
+            // Exact, never blended: a blended corner between a turn and a drive would move
+            // the base sideways.
+            BaseKind::DifferentialDrive => {
+                time_differential_drive(base_path, &b.max_velocity, &b.max_acceleration)?
+            }
+        };
         let joints = ctx.robot.arm_joints();
         let vmax: Vec<f64> = joints.iter().map(|j| j.max_velocity).collect();
         let amax: Vec<f64> = joints.iter().map(|j| j.max_acceleration).collect();

@@ -155,8 +155,9 @@ impl RobotModel {
     ///
     /// # Errors
     /// [`RobotError::InvalidSetting`] for a footprint radius that is not finite and positive,
-    /// [`RobotError::NonPositiveLimit`] for a velocity or acceleration limit that is not finite
-    /// and positive.
+    /// or, for a [`BaseKind::DifferentialDrive`] base, a lateral limit (`max_velocity[1]`,
+    /// `max_acceleration[1]`) other than 0; [`RobotError::NonPositiveLimit`] for any other
+    /// velocity or acceleration limit that is not finite and positive.
     pub fn with_base(mut self, base: MobileBase) -> Result<RobotModel, RobotError> {
         if !(base.footprint_radius.is_finite() && base.footprint_radius > 0.0) {
             return Err(InvalidSetting::new(
@@ -166,12 +167,33 @@ impl RobotModel {
             )
             .into());
         }
-        for (axis, (&v, &a)) in ["base x", "base y", "base yaw"]
+        let axes = match base.kind {
+            BaseKind::DifferentialDrive => {
+                for (what, limits) in [
+                    ("max_velocity[1]", &base.max_velocity),
+                    ("max_acceleration[1]", &base.max_acceleration),
+                ] {
+                    if limits[1] != 0.0 {
+                        return Err(InvalidSetting::new(
+                            what,
+                            limits[1],
+                            "0 for a differential-drive base (it cannot move sideways)",
+                        )
+                        .into());
+                    }
+                }
+                [Some("base forward"), None, Some("base yaw")]
+            }
+            _ => [Some("base x"), Some("base y"), Some("base yaw")],
+        };
+        for (axis, (&v, &a)) in axes
             .iter()
             .zip(base.max_velocity.iter().zip(&base.max_acceleration))
         {
-            check_positive_limit(axis, "velocity", v)?;
-            check_positive_limit(axis, "acceleration", a)?;
+            if let Some(axis) = axis {
+                check_positive_limit(axis, "velocity", v)?;
+                check_positive_limit(axis, "acceleration", a)?;
+            }
         }
         self.base = base;
         Ok(self)

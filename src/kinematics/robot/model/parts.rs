@@ -19,24 +19,38 @@ pub const DEFAULT_BASE_ACCELERATION: [f64; 3] = [0.5, 0.5, 1.0];
 
 /// How the mobile base moves in the plane.
 ///
-/// Only [`BaseKind::Holonomic`] exists today: the base follows any planar path in SE(2), so
-/// base paths are planned in SE(2) with a straight-line local planner (yaw wrapping) and timed
-/// per axis under [`MobileBase::max_velocity`] / [`MobileBase::max_acceleration`].
+/// The robot model and its kinematics are the same for every kind — the base pose is
+/// `(x, y, yaw)` and [`RobotModel::world_from_base`] places it — only the motion layer
+/// differs:
+/// - [`BaseKind::Holonomic`]: base paths are planned in SE(2) with a straight-line local
+///   planner (yaw wrapping) and timed per axis under [`MobileBase::max_velocity`] /
+///   [`MobileBase::max_acceleration`] (`[x, y, yaw]`).
+/// - [`BaseKind::DifferentialDrive`]: base paths are planned in SE(2) as well, then turned into
+///   turn-in-place and drive-straight (forward or backward) pieces that never move sideways,
+///   and the whole robot is collision-checked along those pieces (see
+///   [`motion::paths::differential_drive`](crate::motion::paths::differential_drive)). They are
+///   timed along the path under the forward speed and the yaw rate (see
+///   [`motion::timing::time_differential_drive`](crate::motion::timing::time_differential_drive)).
 ///
-/// A non-holonomic base (differential drive, car-like) would be a new variant carrying its
-/// constraint (e.g. `DifferentialDrive { track_width }` or `Ackermann { wheelbase,
-/// min_turning_radius }`). Nothing in the robot model or its kinematics changes — the base pose
-/// is still `(x, y, yaw)` and [`RobotModel::world_from_base`] is the same — but the motion
-/// layer must then plan base paths with a state space that respects the constraint (OMPL's
-/// Dubins or Reeds–Shepp spaces, or a kinodynamic planner over the wheel controls), and time
-/// them along the path (forward speed and yaw rate) instead of per axis. Base placement is
-/// unaffected, since it only chooses the final pose. Code that matches on `BaseKind` (it is
+/// Base placement is the same for every kind: it only chooses the final pose. A car-like base
+/// (`Ackermann { wheelbase, min_turning_radius }`, planned in OMPL's Dubins or Reeds–Shepp
+/// spaces) would be another variant; code that matches on `BaseKind` (it is
 /// `#[non_exhaustive]`) must reject kinds it cannot plan for.
 #[non_exhaustive]
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum BaseKind {
     /// Omnidirectional: x, y and yaw independently controllable.
+    #[default]
     Holonomic,
+    /// Two driven wheels on one axle (TIAGo, Fetch, Stretch): the base moves along its own x
+    /// axis (forward or backward) and turns about its origin, never sideways (velocity in the
+    /// base frame `(v, 0, ω)`). [`MobileBase::max_velocity`] and
+    /// [`MobileBase::max_acceleration`] then hold `[forward, 0, yaw]`: the forward speed
+    /// (m/s) and acceleration (m/s²) along the base's x axis, a lateral entry that must be 0,
+    /// and the yaw rate (rad/s) and acceleration (rad/s²). The base origin is taken to be the
+    /// midpoint of the wheel axle (REP 120's `base_footprint`), so turning in place keeps it
+    /// fixed.
+    DifferentialDrive,
 }
 
 /// The mobile base: its kind, footprint and planar limits.
@@ -47,10 +61,27 @@ pub struct MobileBase {
     /// Radius (m) of the vertical cylinder about the base origin that encloses the base and
     /// the arm at [`RobotModel::neutral`] (the footprint the navigation grid uses).
     pub footprint_radius: f64,
-    /// Velocity limits: x (m/s), y (m/s), yaw (rad/s), in the base frame.
+    /// Velocity limits in the base frame. Holonomic: x (m/s), y (m/s), yaw (rad/s).
+    /// Differential drive: forward speed (m/s), 0 (no sideways motion), yaw rate (rad/s).
     pub max_velocity: [f64; 3],
-    /// Acceleration limits: x (m/s²), y (m/s²), yaw (rad/s²).
+    /// Acceleration limits. Holonomic: x (m/s²), y (m/s²), yaw (rad/s²). Differential drive:
+    /// forward (m/s²), 0, yaw (rad/s²).
     pub max_acceleration: [f64; 3],
+}
+
+impl MobileBase {
+    /// This base as a differential-drive base with the same footprint: the x limits become the
+    /// forward limits, the yaw limits stay, the lateral entries become 0.
+    pub fn to_differential_drive(&self) -> MobileBase {
+        let [vx, _, vyaw] = self.max_velocity;
+        let [ax, _, ayaw] = self.max_acceleration;
+        MobileBase {
+            kind: BaseKind::DifferentialDrive,
+            footprint_radius: self.footprint_radius,
+            max_velocity: [vx, 0.0, vyaw],
+            max_acceleration: [ax, 0.0, ayaw],
+        }
+    }
 }
 
 /// The kind of an arm joint.
