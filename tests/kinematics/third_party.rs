@@ -10,7 +10,7 @@ use kinscene::kinematics::robot::{
 };
 
 /// `share/example-robot-data` in the venv's cmeel prefix.
-fn example_robot_data() -> PathBuf {
+pub(super) fn example_robot_data() -> PathBuf {
     let lib = Path::new(env!("CARGO_MANIFEST_DIR")).join(".deps/venv/lib");
     let found = std::fs::read_dir(&lib).ok().and_then(|entries| {
         entries

@@ -14,7 +14,14 @@
 //!   ([`RobotModel::world_from_base`]). A URDF that models that motion with a `planar` or
 //!   `floating` joint from a `world`/`odom` root link is accepted: when the root link's only
 //!   joint is of one of these types, the joint is skipped, its child is the base link, and the
-//!   root link (with any collision elements) is ignored.
+//!   root link (with any collision elements) is ignored. So is a base modelled as joints, as
+//!   several simulators do, recognised by its structure whatever the names: a chain from the
+//!   root link of a `prismatic` joint along +x and one along +y (either order), then a
+//!   `revolute` or `continuous` joint about +z, each the only joint of its parent link, with
+//!   origins that are the identity or a pure z offset. The three joints are skipped (their
+//!   limits too), the last one's child is the base link, lifted in the base frame by the sum of
+//!   the z offsets, and the links before it are ignored. Any other axis, sign, order or origin
+//!   leaves the joints as they are (arm or frozen joints).
 //! - **Fixed merge.** A link attached by a `fixed` joint merges into its parent link, through
 //!   chains of any length: its collision elements move into the owner's frame, composed with
 //!   the fixed joints' origins, and a movable joint below it gets its origin composed the same
@@ -91,6 +98,7 @@
 //! ```
 
 mod collision;
+mod description;
 mod error;
 mod model;
 mod pairs;
@@ -100,6 +108,7 @@ mod stow;
 mod urdf;
 
 pub use collision::{Exempt, GROUND_TOP, RobotCollision};
+pub use description::{ArmDescription, BaseDescription, RobotDescription, ToolDescription};
 pub use error::RobotError;
 pub use model::{
     ArmJoint, ArmJointKind, BaseKind, DEFAULT_BASE_ACCELERATION, DEFAULT_BASE_VELOCITY,
