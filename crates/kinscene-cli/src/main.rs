@@ -4,7 +4,8 @@
 //! ```text
 //! kinscene inspect  --scene S.urdf [--package NAME=PATH ...]
 //! kinscene plan     --scene S.urdf --goal G.toml [--budget 10s] [--out plan.json]
-//!                   [--strategy search|random|paper] [--seed N] [--robot URDF|gen3]
+//!                   [--strategy search|random|paper] [--seed N]
+//!                   [--robot ROBOT.toml|URDF|gen3]
 //!                   [--tool-link LINK] [--srdf FILE] [--arm-root LINK]
 //!                   [--frozen JOINT=VALUE ...] [--contact-link LINK ...]
 //!                   [--tool-approach X,Y,Z]

@@ -77,7 +77,12 @@
 //!   [`DEFAULT_BASE_VELOCITY`] (0.5 m/s in x and y, 1.0 rad/s in yaw) and
 //!   [`DEFAULT_BASE_ACCELERATION`] (0.5 m/s², 1.0 rad/s²); its footprint radius is computed
 //!   from the collision geometry at [`RobotModel::neutral`]. Replace them with
-//!   [`RobotModel::with_base`].
+//!   [`RobotModel::with_base`] or a description's `[base]`.
+//!
+//! - **Description file.** A TOML file gathers what the URDF cannot say — the import options,
+//!   the SRDF, the stow and the base — and loads the robot in one call:
+//!   [`RobotDescription`], [`RobotModel::from_description_file`] (`robots/gen3.toml` is the
+//!   shipped robot).
 //!
 //! No input makes the loader panic: every check above is a typed [`RobotError`].
 //!

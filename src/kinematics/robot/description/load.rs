@@ -53,7 +53,7 @@ impl RobotDescription {
 
 impl RobotModel {
     /// Loads the robot a description file describes (see
-    /// [`RobotDescription`](super) for the format): paths relative to the file's directory,
+    /// [`RobotDescription`] for the format): paths relative to the file's directory,
     /// `${NAME}` from the process environment.
     ///
     /// # Errors

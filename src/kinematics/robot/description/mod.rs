@@ -1,62 +1,4 @@
-//! The robot description file (TOML): everything the loader needs besides the URDF — package
-//! paths, the tool, the arm root, the SRDF, frozen joints, the stowed configuration and the
-//! mobile base — for the library ([`RobotModel::from_description_file`]) and the CLI
-//! (`kinscene plan --robot robot.toml`).
-//!
-//! ```toml
-//! urdf = "kinova_gen3_mobile.urdf"    # relative to this file, or package://NAME/rest
-//! srdf = "kinova_gen3_mobile.srdf"    # optional: disable_collisions pairs and stow state
-//!
-//! [packages]                          # optional: package://NAME roots for meshes
-//! my_robot_description = "${MY_ROBOT}/share/my_robot_description"
-//!
-//! [tool]
-//! link = "tool_frame"                 # the TCP link (required)
-//! approach = [0.0, 0.0, 1.0]          # optional: approach axis in the link frame (default +z)
-//! contact_links = ["left_pad"]        # optional: default, links named *finger* or *pad*
-//!
-//! [arm]
-//! root = "torso_lift_link"            # optional: the link the arm starts at
-//!
-//! [frozen]                            # optional: values of movable joints off the arm
-//! head_1_joint = 0.0
-//!
-//! [stow]                              # optional: every arm joint's stowed value
-//! joint_1 = 0.0
-//!
-//! [base]                              # optional
-//! kind = "holonomic"                  # default "holonomic"
-//! max_velocity = [0.5, 0.5, 1.0]      # x, y (m/s), yaw (rad/s)
-//! max_acceleration = [0.5, 0.5, 1.0]  # x, y (m/s²), yaw (rad/s²)
-//! footprint_radius = 0.45             # optional (m): default computed at the stow
-//! ```
-//!
-//! # Paths
-//! `urdf`, `srdf` and the `[packages]` values are file paths: `${NAME}` is replaced by the
-//! environment variable `NAME` (for data installed in a place only the user knows, such as a
-//! Python environment: `${EXAMPLE_ROBOT_DATA}`); `urdf` and `srdf` may be
-//! `package://NAME/rest` URIs resolved through `[packages]`; relative paths resolve against
-//! the description file's directory.
-//!
-//! # Stowed configuration
-//! [`RobotModel::neutral`] is, in this order: the SRDF's stow group state
-//! ([`Srdf::stow_state`](super::Srdf::stow_state)); the description's `[stow]` (which must name
-//! every arm joint, within its limits, free of self-collision; it is checked even when the
-//! SRDF's wins); otherwise the computed stow ([`RobotModel::with_computed_stow`] with
-//! [`StowSearch::default`](super::StowSearch)). Without an SRDF, the self-collision exemptions
-//! are computed ([`RobotModel::with_sampled_pairs`] with
-//! [`PairSampling::default`](super::PairSampling)).
-//!
-//! # Footprint
-//! The footprint is a radius only: [`MobileBase::footprint_radius`]. The navigation grid
-//! inflates obstacles by a disc, and a polygon would need a yaw-dependent grid to be used
-//! soundly; base poses are always checked against the robot's real collision shapes.
-//!
-//! # Errors
-//! Every bad input is a [`RobotError`] naming its element: [`RobotError::Description`] for the
-//! file itself (TOML syntax, unknown keys, missing `urdf` or `[tool] link`, values of the wrong
-//! type, an unknown base kind, an unset variable, a bad stow), and the URDF and SRDF loaders'
-//! errors for what they find.
+//! The robot description file (TOML), [`RobotDescription`], and its loader.
 
 mod load;
 mod paths;
@@ -70,8 +12,66 @@ use super::{BaseKind, DEFAULT_BASE_ACCELERATION, DEFAULT_BASE_VELOCITY, RobotErr
 #[cfg(doc)]
 use super::{MobileBase, RobotModel};
 
-/// A robot description file (see the [module docs](self) for the format). Unknown keys are
-/// errors. Paths are kept as written; [`RobotModel::from_description`] resolves them.
+/// A robot description file: everything the loader needs besides the URDF — package paths,
+/// the tool, the arm root, the SRDF, frozen joints, the stowed configuration and the mobile
+/// base — for the library ([`RobotModel::from_description_file`]) and the CLI
+/// (`kinscene plan --robot robot.toml`). Unknown keys are errors. Paths are kept as written;
+/// [`RobotModel::from_description`] resolves them.
+///
+/// ```toml
+/// urdf = "kinova_gen3_mobile.urdf"    # relative to this file, or package://NAME/rest
+/// srdf = "kinova_gen3_mobile.srdf"    # optional: disable_collisions pairs and stow state
+///
+/// [packages]                          # optional: package://NAME roots for meshes
+/// my_robot_description = "${MY_ROBOT}/share/my_robot_description"
+///
+/// [tool]
+/// link = "tool_frame"                 # the TCP link (required)
+/// approach = [0.0, 0.0, 1.0]          # optional: approach axis in the link frame (default +z)
+/// contact_links = ["left_pad"]        # optional: default, links named *finger* or *pad*
+///
+/// [arm]
+/// root = "torso_lift_link"            # optional: the link the arm starts at
+///
+/// [frozen]                            # optional: values of movable joints off the arm
+/// head_1_joint = 0.0
+///
+/// [stow]                              # optional: every arm joint's stowed value
+/// joint_1 = 0.0
+///
+/// [base]                              # optional
+/// kind = "holonomic"                  # default "holonomic"
+/// max_velocity = [0.5, 0.5, 1.0]      # x, y (m/s), yaw (rad/s)
+/// max_acceleration = [0.5, 0.5, 1.0]  # x, y (m/s²), yaw (rad/s²)
+/// footprint_radius = 0.45             # optional (m): default computed at the stow
+/// ```
+///
+/// # Paths
+/// `urdf`, `srdf` and the `[packages]` values are file paths: `${NAME}` is replaced by the
+/// environment variable `NAME` (for data installed in a place only the user knows, such as a
+/// Python environment: `${EXAMPLE_ROBOT_DATA}`); `urdf` and `srdf` may be
+/// `package://NAME/rest` URIs resolved through `[packages]`; relative paths resolve against
+/// the description file's directory.
+///
+/// # Stowed configuration
+/// [`RobotModel::neutral`] is, in this order: the SRDF's stow group state
+/// ([`Srdf::stow_state`](super::Srdf::stow_state)); the description's `[stow]` (which must name
+/// every arm joint, within its limits, free of self-collision; it is checked even when the
+/// SRDF's wins); otherwise the computed stow ([`RobotModel::with_computed_stow`] with
+/// [`StowSearch::default`](super::StowSearch)). Without an SRDF, the self-collision exemptions
+/// are computed ([`RobotModel::with_sampled_pairs`] with
+/// [`PairSampling::default`](super::PairSampling)).
+///
+/// # Footprint
+/// The footprint is a radius only: [`MobileBase::footprint_radius`]. The navigation grid
+/// inflates obstacles by a disc, and a polygon would need a yaw-dependent grid to be used
+/// soundly; base poses are always checked against the robot's real collision shapes.
+///
+/// # Bad input
+/// Every bad input is a [`RobotError`] naming its element: [`RobotError::Description`] for the
+/// file itself (TOML syntax, unknown keys, missing `urdf` or `[tool] link`, values of the wrong
+/// type, an unknown base kind, an unset variable, a bad stow), and the URDF and SRDF loaders'
+/// errors for what they find.
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RobotDescription {
@@ -95,7 +95,7 @@ pub struct RobotDescription {
     #[serde(default)]
     pub frozen: BTreeMap<String, f64>,
     /// The stowed configuration: arm joint name → value (rad or m). Empty: the SRDF's or the
-    /// computed one (see the [module docs](self)).
+    /// computed one (see [`RobotDescription`]).
     #[serde(default)]
     pub stow: BTreeMap<String, f64>,
     /// The mobile base.
