@@ -66,6 +66,8 @@ fn an_arm_on_xy_yaw_joints_is_the_arm_on_a_planar_joint() {
     assert_eq!(chain.arm_joints().len(), planar.arm_joints().len());
     assert_eq!(chain.links()[0].name, "panda_link0");
     assert_eq!(chain.frozen_joints(), planar.frozen_joints());
+    let base_shapes = chain.links()[0].colliders.len();
+    assert!(base_shapes > 0 && base_shapes == planar.links()[0].colliders.len());
     for (c, p) in chain.links()[0]
         .colliders
         .iter()

@@ -66,6 +66,13 @@ fn the_tiago_description_loads_from_example_robot_data() {
     assert_eq!(torso.value, 0.0);
     assert_eq!(robot.base().kind, BaseKind::Holonomic);
     assert_eq!(robot.base().max_velocity, [1.0, 1.0, 4.9]);
+    // The computed stow keeps the arm near the base (stretched out it reaches over 1 m; see
+    // third_party.rs).
+    assert!(
+        robot.base().footprint_radius < 0.6,
+        "{}",
+        robot.base().footprint_radius
+    );
     let pairs = robot.allowed_pairs().expect("sampled exemptions");
     assert!(!pairs.is_empty());
     let poses = robot
