@@ -4,8 +4,8 @@
 //! ```text
 //! kinscene inspect  --scene S.urdf [--package NAME=PATH ...]
 //! kinscene plan     --scene S.urdf --goal G.toml [--budget 10s] [--out plan.json]
-//!                   [--strategy search|random|paper] [--seed N] [--robot URDF|gen3]
-//!                   [--base holonomic|differential]
+//!                   [--strategy search|random|paper] [--seed N]
+//!                   [--robot ROBOT.toml|URDF|gen3] [--base holonomic|differential]
 //!                   [--tool-link LINK] [--srdf FILE] [--arm-root LINK]
 //!                   [--frozen JOINT=VALUE ...] [--contact-link LINK ...]
 //!                   [--tool-approach X,Y,Z]

@@ -1,4 +1,4 @@
-//! `kinscene plan --robot URDF|gen3`: the hierarchical planner (task order refined by motion
+//! `kinscene plan --robot ROBOT.toml|URDF|gen3`: the hierarchical planner (task order refined by motion
 //! planning, [`kinscene::planner`]) behind `plan`.
 //!
 //! The document is [`kinscene::planner::MotionDocument`]: the task plan document plus, per
@@ -16,9 +16,10 @@ use kinscene::task::{Problem, TaskSettings};
 
 use crate::{CliError, Verdict};
 
-/// The robot of `plan --robot`: a URDF path or `gen3`, its tool link, mesh packages.
+/// The robot of `plan --robot`: a description (`.toml`), a URDF path or `gen3`; for a URDF,
+/// its tool link, SRDF, mesh packages and the rest of the import options.
 pub struct RobotArgs<'a> {
-    /// A URDF path, or `gen3` for the shipped robot.
+    /// A robot description (`.toml`), a URDF path, or `gen3` for the shipped robot.
     pub path: &'a Path,
     /// The link whose frame is the tool (`None`: `tool_frame`).
     pub tool_link: Option<&'a str>,
@@ -38,7 +39,7 @@ pub struct RobotArgs<'a> {
     pub base: crate::plan::BaseArg,
 }
 
-/// Plans with motion for `robot` (a URDF path, or `gen3`) and writes the document to
+/// Plans with motion for `robot` (a description, a URDF path, or `gen3`) and writes the document to
 /// `out_path` or `out`. `motion_options` are the motion layer's seed and the most segments per
 /// step (`None`: the planner's defaults).
 ///
@@ -94,7 +95,8 @@ mod imp {
         out_path: Option<&Path>,
         out: &mut dyn Write,
     ) -> Result<Verdict, CliError> {
-        let robot_model = if robot.path.as_os_str() == "gen3" {
+        let description = robot.path.extension().is_some_and(|e| e == "toml");
+        let robot_model = if robot.path.as_os_str() == "gen3" || description {
             if robot.tool_link.is_some()
                 || robot.srdf.is_some()
                 || robot.arm_root.is_some()
@@ -102,11 +104,21 @@ mod imp {
                 || !robot.contact_links.is_empty()
                 || robot.tool_approach.is_some()
             {
-                return Err(CliError::new(
-                    "--tool-link, --tool-approach, --srdf, --arm-root, --frozen and --contact-link apply to a robot URDF, not the shipped gen3",
-                ));
+                let what = if description {
+                    "a robot description (they go in the .toml)"
+                } else {
+                    "the shipped gen3"
+                };
+                return Err(CliError::new(format!(
+                    "--tool-link, --tool-approach, --srdf, --arm-root, --frozen and --contact-link apply to a robot URDF, not {what}"
+                )));
             }
-            RobotModel::kinova_gen3_mobile()
+            if description {
+                RobotModel::from_description_file(robot.path)
+                    .map_err(|e| CliError::new(format!("{}: {e}", robot.path.display())))?
+            } else {
+                RobotModel::kinova_gen3_mobile()
+            }
         } else {
             let mut options = RobotImportOptions::default();
             if let Some(link) = robot.tool_link {

@@ -1,5 +1,5 @@
 //! `kinscene plan --scene S.urdf --goal G.toml [--budget 10s] [--out plan.json]
-//! [--strategy search|random|paper] [--seed N] [--robot URDF|gen3]
+//! [--strategy search|random|paper] [--seed N] [--robot ROBOT.toml|URDF|gen3]
 //! [--base holonomic|differential] [--max-segments N]
 //! [--tool-link LINK] [--srdf FILE]
 //! [--arm-root LINK] [--frozen JOINT=VALUE ...] [--contact-link LINK ...] [--tool-approach X,Y,Z]
@@ -90,12 +90,15 @@ pub struct Args {
     /// same inputs and seed give the same plan.
     #[arg(long, value_name = "N")]
     seed: Option<u64>,
-    /// Refine the plan with motion for this robot: a robot URDF, or `gen3` for the shipped
-    /// Kinova Gen3 on an omnidirectional base. The document then also holds base paths, base
+    /// Refine the plan with motion for this robot: a robot description (a file ending in
+    /// `.toml`: URDF, SRDF, packages, tool, arm root, frozen joints, stow and base in one file;
+    /// format in `kinscene::kinematics::robot`'s description docs and the README's "Bring your
+    /// robot"), a robot URDF (with the flags below), or `gen3` for the shipped Kinova Gen3 on
+    /// an omnidirectional base (the same as `robots/gen3.toml`). The document then also holds base paths, base
     /// poses, arm paths and timing per step, or per segment of a step that no single base pose
     /// covers (schema: `kinscene::planner`'s document module), and the goal file must give the
     /// robot's start pose (`[robot] base = [x, y, yaw]`).
-    #[arg(long, value_name = "URDF|gen3")]
+    #[arg(long, value_name = "ROBOT.toml|URDF|gen3")]
     robot: Option<PathBuf>,
     /// With a robot: how its base moves. `holonomic` drives in any direction; `differential`
     /// (TIAGo, Fetch, Stretch) turns in place and drives straight, forward or backward, never

@@ -979,3 +979,114 @@ fn plan_with_frozen_joints_and_an_arm_root_checks_them() {
     // clap's usage error for a value that is not a number.
     assert_eq!(run("--frozen", "Actuator1=fast").status.code(), Some(2));
 }
+
+/// `--robot robots/gen3.toml`: the shipped Gen3's description file plans the counter drawer as
+/// `--robot gen3` does (solved, the same robot name in the document).
+#[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
+#[test]
+fn plan_with_a_robot_description() {
+    let toml = repo().join("robots/gen3.toml");
+    let output = plan_counter_with("toml", arg(&toml), &["--budget", "60s", "--seed", "1"]);
+    assert_eq!(
+        output.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let doc: Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(doc["status"], "solved");
+    assert_eq!(doc["robot"], "kinova_gen3_mobile");
+}
+
+/// A bad robot description is bad input naming the element at fault: an unknown key (and its
+/// table), an unknown base kind, a stow joint that is not an arm joint, a URDF flag given with
+/// a description, a description that is not TOML, and TIAGo's description without
+/// `EXAMPLE_ROBOT_DATA`; with the variable set, TIAGo loads (the verdict within a 1 s budget
+/// is the planner's, not bad input).
+#[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
+#[test]
+fn plan_with_a_bad_robot_description_names_the_element() {
+    let urdf = gen3_urdf();
+    let head = format!(
+        "urdf = {:?}\n[tool]\nlink = \"tool_frame\"\n",
+        urdf.display().to_string()
+    );
+    let run = |name: &str, extra: &str, args: &[&str]| {
+        let file = scratch_file(name, &(head.clone() + extra));
+        let mut all = vec!["--budget", "1s"];
+        all.extend_from_slice(args);
+        plan_counter_with("description", arg(&file), &all)
+    };
+    let line = assert_bad_input(&run("unknown_key.toml", "[base]\nspeed = 1.0\n", &[]));
+    assert!(line.contains("speed") && line.contains("[base]"), "{line}");
+    let line = assert_bad_input(&run("kind.toml", "[base]\nkind = \"legged\"\n", &[]));
+    assert!(
+        line.contains("base.kind") && line.contains("legged"),
+        "{line}"
+    );
+    let line = assert_bad_input(&run("stow.toml", "[stow]\nhead = 0.0\n", &[]));
+    assert!(line.contains("stow.head"), "{line}");
+    let line = assert_bad_input(&run("flag.toml", "", &["--tool-link", "x"]));
+    assert!(
+        line.contains("--tool-link") && line.contains("description"),
+        "{line}"
+    );
+    let line = assert_bad_input(&run("syntax.toml", "[tool\n", &[]));
+    assert!(line.contains("robot description"), "{line}");
+    // TIAGo from example-robot-data, found through the environment.
+    let tiago = repo().join("robots/tiago.toml");
+    let scene = counter_path();
+    let goal = scratch_file(
+        "counter_goal_tiago.toml",
+        "[goal]\ndrawer_slide = { min = 0.25 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
+    );
+    let tiago_plan = |data: Option<&Path>| {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_kinscene"));
+        command.args([
+            "plan",
+            "--scene",
+            arg(&scene),
+            "--goal",
+            arg(&goal),
+            "--robot",
+            arg(&tiago),
+            "--budget",
+            "1s",
+        ]);
+        match data {
+            Some(path) => command.env("EXAMPLE_ROBOT_DATA", path),
+            None => command.env_remove("EXAMPLE_ROBOT_DATA"),
+        };
+        command.output().unwrap()
+    };
+    let line = assert_bad_input(&tiago_plan(None));
+    assert!(
+        line.contains("EXAMPLE_ROBOT_DATA") && line.contains("packages.example-robot-data"),
+        "{line}"
+    );
+    let output = tiago_plan(Some(&example_robot_data()));
+    assert_ne!(
+        output.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
+
+/// `share/example-robot-data` in the venv's cmeel prefix (installed by `setup.sh`).
+#[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
+fn example_robot_data() -> PathBuf {
+    let lib = repo().join(".deps/venv/lib");
+    std::fs::read_dir(&lib)
+        .ok()
+        .and_then(|entries| {
+            entries
+                .filter_map(Result::ok)
+                .map(|e| {
+                    e.path()
+                        .join("site-packages/cmeel.prefix/share/example-robot-data")
+                })
+                .find(|p| p.is_dir())
+        })
+        .unwrap_or_else(|| panic!("example-robot-data is not in {lib:?}: run `bash setup.sh`"))
+}

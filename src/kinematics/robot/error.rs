@@ -8,7 +8,7 @@ use std::path::PathBuf;
 #[derive(Debug, Clone, thiserror::Error)]
 pub enum RobotError {
     /// The file could not be read.
-    #[error("cannot read robot URDF {path:?}: {message}")]
+    #[error("cannot read robot file {path:?}: {message}")]
     Io {
         /// The file.
         path: PathBuf,
@@ -205,6 +205,17 @@ pub enum RobotError {
     Srdf {
         /// The element at fault (`document` for the file as a whole).
         element: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A robot description file (TOML) is not valid: TOML syntax, an unknown or missing key, a
+    /// value of the wrong type, or a value the loader rejects (an unknown base kind, an unset
+    /// variable, a bad stow, ...).
+    #[error("robot description {field}: {message}")]
+    Description {
+        /// The element at fault: a key path such as `base.kind` or `stow.joint_1`, or for
+        /// TOML errors the text at fault, its `[table]` and line.
+        field: String,
         /// What is wrong.
         message: String,
     },

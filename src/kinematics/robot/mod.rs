@@ -15,7 +15,14 @@
 //!   ([`RobotModel::world_from_base`]). A URDF that models that motion with a `planar` or
 //!   `floating` joint from a `world`/`odom` root link is accepted: when the root link's only
 //!   joint is of one of these types, the joint is skipped, its child is the base link, and the
-//!   root link (with any collision elements) is ignored.
+//!   root link (with any collision elements) is ignored. So is a base modelled as joints, as
+//!   several simulators do, recognised by its structure whatever the names: a chain from the
+//!   root link of a `prismatic` joint along +x and one along +y (either order), then a
+//!   `revolute` or `continuous` joint about +z, each the only joint of its parent link, with
+//!   origins that are the identity or a pure z offset. The three joints are skipped (their
+//!   limits too), the last one's child is the base link, lifted in the base frame by the sum of
+//!   the z offsets, and the links before it are ignored. Any other axis, sign, order or origin
+//!   leaves the joints as they are (arm or frozen joints).
 //! - **Fixed merge.** A link attached by a `fixed` joint merges into its parent link, through
 //!   chains of any length: its collision elements move into the owner's frame, composed with
 //!   the fixed joints' origins, and a movable joint below it gets its origin composed the same
@@ -73,7 +80,13 @@
 //!   computed from the collision geometry at [`RobotModel::neutral`]. Replace them with
 //!   [`RobotModel::with_base`], e.g. with [`BaseKind::DifferentialDrive`] for TIAGo, Fetch or
 //!   Stretch ([`MobileBase::to_differential_drive`] keeps the x limits as the forward limits):
-//!   its base paths then turn in place and drive straight, never sideways.
+//!   its base paths then turn in place and drive straight, never sideways. A description's
+//!   `[base]` sets them too.
+//!
+//! - **Description file.** A TOML file gathers what the URDF cannot say — the import options,
+//!   the SRDF, the stow and the base — and loads the robot in one call:
+//!   [`RobotDescription`], [`RobotModel::from_description_file`] (`robots/gen3.toml` is the
+//!   shipped robot).
 //!
 //! No input makes the loader panic: every check above is a typed [`RobotError`].
 //!
@@ -94,6 +107,7 @@
 //! ```
 
 mod collision;
+mod description;
 mod error;
 mod model;
 mod pairs;
@@ -103,6 +117,7 @@ mod stow;
 mod urdf;
 
 pub use collision::{Exempt, GROUND_TOP, RobotCollision};
+pub use description::{ArmDescription, BaseDescription, RobotDescription, ToolDescription};
 pub use error::RobotError;
 pub use model::{
     ArmJoint, ArmJointKind, BaseKind, DEFAULT_BASE_ACCELERATION, DEFAULT_BASE_VELOCITY,

@@ -1,6 +1,7 @@
 //! Parsing a robot URDF (urdf-rs) into arm joints, merged links and fixed frames.
 
 mod approach;
+mod base;
 mod depth;
 mod joint;
 mod tree;

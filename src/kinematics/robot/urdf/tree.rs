@@ -4,10 +4,10 @@
 use std::collections::HashMap;
 
 use nalgebra::Isometry3;
-use urdf_rs::JointType;
 
 use super::Parsed;
 use super::approach::approach_rotation;
+use super::base::BaseLink;
 use super::joint::is_movable;
 use super::walk::Walk;
 use crate::kinematics::robot::{RobotError, RobotImportOptions, RobotLink};
@@ -126,7 +126,8 @@ impl Tree {
         robot: &urdf_rs::Robot,
         options: &RobotImportOptions,
     ) -> Result<Parsed, RobotError> {
-        let (base_link, tool, arm) = self.arm(robot, options)?;
+        let (base, tool, arm) = self.arm(robot, options)?;
+        let base_link = base.link;
         let mesh_options = ImportOptions {
             package_paths: options.package_paths.clone(),
             base_dir: options.base_dir.clone(),
@@ -150,7 +151,7 @@ impl Tree {
             frozen_values: &options.frozen,
             frozen: Vec::new(),
         };
-        walk.visit(base_link)?;
+        walk.visit(base_link, base.base_from_link)?;
         self.check_named_links(robot, options, &arm, &walk)?;
         let (owner, last_from_link) = walk.owner[tool].ok_or_else(|| RobotError::NotATree {
             reason: format!("tool link {:?} is not below the base", options.tool_link),
@@ -169,26 +170,17 @@ impl Tree {
 }
 
 impl Tree {
-    /// The base link (the root, or the root's child through a planar or floating joint), the
-    /// tool link and the arm: the movable joints on the path from the base (or the arm root)
-    /// to the tool, as indices in `robot.joints`.
+    /// The base link ([`Tree::base_link`]), the tool link and the arm: the movable joints on
+    /// the path from the base (or the arm root) to the tool, as indices in `robot.joints`.
     fn arm(
         &self,
         robot: &urdf_rs::Robot,
         options: &RobotImportOptions,
-    ) -> Result<(usize, usize, Vec<usize>), RobotError> {
-        // A planar or floating joint out of the root (a `world`/`odom` link) is the base's
-        // implicit planar motion: skip it.
-        let base_link = match self.child_joints[self.root].as_slice() {
-            [j] if matches!(
-                robot.joints[*j].joint_type,
-                JointType::Planar | JointType::Floating
-            ) =>
-            {
-                self.ends[*j].1
-            }
-            _ => self.root,
-        };
+    ) -> Result<(BaseLink, usize, Vec<usize>), RobotError> {
+        // A planar or floating joint, or an x/y/yaw chain, out of the root (a `world`/`odom`
+        // link) is the base's implicit planar motion: skip it.
+        let base = self.base_link(robot);
+        let base_link = base.link;
         let tool =
             *self
                 .links
@@ -240,7 +232,7 @@ impl Tree {
                 base: robot.links[base_link].name.clone(),
             });
         }
-        Ok((base_link, tool, arm))
+        Ok((base, tool, arm))
     }
 
     /// The frozen joints and contact links the options name exist where they must: a frozen

@@ -32,10 +32,14 @@ pub(super) struct Walk<'a> {
 }
 
 impl Walk<'_> {
-    /// Visits `base` and everything below it, parents before children (joint order of the
-    /// document among siblings).
-    pub(super) fn visit(&mut self, base: usize) -> Result<(), RobotError> {
-        self.owner[base] = Some((0, Isometry3::identity()));
+    /// Visits `base` (its frame at `base_from_link` in the base frame) and everything below
+    /// it, parents before children (joint order of the document among siblings).
+    pub(super) fn visit(
+        &mut self,
+        base: usize,
+        base_from_link: Isometry3<f64>,
+    ) -> Result<(), RobotError> {
+        self.owner[base] = Some((0, base_from_link));
         self.add_colliders(base)?;
         let mut stack: Vec<usize> = self.tree.child_joints[base].iter().rev().copied().collect();
         while let Some(j) = stack.pop() {
