@@ -6,7 +6,7 @@ use std::sync::Arc;
 use super::caches::{Caches, bounded};
 use super::{Checker, Error};
 use crate::scene::motion::grasp_trajectory;
-use crate::scene::{HandleId, JointId, JointKind, SceneData, State, joint_axis};
+use crate::scene::{HandleId, HandlePose, JointId, JointKind, SceneData, State, joint_axis};
 
 /// A cell of a move's manipulation region, with the handle it serves and the handle travel.
 #[derive(Debug, Clone, Copy)]
@@ -56,8 +56,6 @@ impl Checker<'_> {
         let m = &self.settings.manipulation;
         let part = &self.model.parts()[joint.index()];
         let a = state.q[joint.index()];
-        let grid = &self.base_blocked;
-        let (w, h, res) = (grid.width(), grid.height(), grid.resolution());
         let mut out: Vec<RegionCell> = Vec::new();
         for index in 0..part.handles().len() {
             let handle = HandleId {
@@ -83,92 +81,111 @@ impl Checker<'_> {
                     axis.distance_to_axis(&p0) * (b - a).abs()
                 }
             };
-            let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
-            for p in &traj {
-                x0 = x0.min(p.position.x - m.reach_max);
-                y0 = y0.min(p.position.y - m.reach_max);
-                x1 = x1.max(p.position.x + m.reach_max);
-                y1 = y1.max(p.position.y + m.reach_max);
-            }
-            let o = grid.origin();
-            let idx = |v: f64, o: f64, n: usize| {
-                (((v - o) / res).floor().max(0.0) as usize).min(n.saturating_sub(1))
-            };
-            let covers = |c: nalgebra::Point2<f64>, p: &crate::scene::HandlePose| {
-                let d = (c.x - p.position.x).hypot(c.y - p.position.y);
-                d >= m.reach_min
-                    && d <= m.reach_max
-                    && m.arm
-                        .is_none_or(|arm| arm.admits([c.x, c.y], &p.position, &p.normal, 0.0))
-            };
-            let front = |c: nalgebra::Point2<f64>, p: &crate::scene::HandlePose| {
-                (c.x - p.position.x) * p.normal.x + (c.y - p.position.y) * p.normal.y >= 0.0
-            };
-            let last = traj.len() - 1;
-            // Segmented moves: per free cell, the run of waypoints it covers from each waypoint
-            // it covers on the front side; `ext[s]` the longest over the cells.
-            let mut ext: Vec<usize> = (0..=last).collect();
-            let mut prefixes: Vec<(usize, usize)> = Vec::new();
-            for j in idx(y0, o.y, h)..=idx(y1, o.y, h) {
-                for i in idx(x0, o.x, w)..=idx(x1, o.x, w) {
-                    if grid.is_occupied(i, j) {
-                        continue;
-                    }
-                    let c = grid.cell_center(i, j);
-                    let cell = j * w + i;
-                    let cover: Vec<bool> = traj.iter().map(|p| covers(c, p)).collect();
-                    if cover.iter().all(|k| *k) && front(c, &traj[0]) {
-                        out.push(RegionCell {
-                            cell,
-                            handle,
-                            actuation,
-                            yaw: (p0.y - c.y).atan2(p0.x - c.x),
-                            segmented: false,
-                        });
-                        continue;
-                    }
-                    if m.segments < 2 {
-                        continue;
-                    }
-                    let mut run_end = vec![0usize; last + 1];
-                    for k in (0..=last).rev() {
-                        run_end[k] = if k < last && cover[k] && cover[k + 1] {
-                            run_end[k + 1]
-                        } else {
-                            k
-                        };
-                    }
-                    if !self.base_component[cell] {
-                        continue;
-                    }
-                    for s in 0..last {
-                        if cover[s] && front(c, &traj[s]) {
-                            ext[s] = ext[s].max(run_end[s]);
-                        }
-                    }
-                    if cover[0] && front(c, &traj[0]) && run_end[0] > 0 {
-                        prefixes.push((cell, run_end[0]));
+            self.cells_of(&traj, handle, actuation, &mut out);
+        }
+        Ok(out)
+    }
+
+    /// The region cells of one handle's grasp trajectory `traj` (in the height band): the cells
+    /// covering it whole and, with segmented moves, those covering a prefix whose rest the
+    /// runs cover (see [`ManipulationSettings::segments`]).
+    ///
+    /// [`ManipulationSettings::segments`]: crate::task::ManipulationSettings::segments
+    fn cells_of(
+        &self,
+        traj: &[HandlePose],
+        handle: HandleId,
+        actuation: f64,
+        out: &mut Vec<RegionCell>,
+    ) {
+        let m = &self.settings.manipulation;
+        let grid = &self.base_blocked;
+        let (w, h, res) = (grid.width(), grid.height(), grid.resolution());
+        let p0 = traj[0].position;
+        let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
+        for p in traj {
+            x0 = x0.min(p.position.x - m.reach_max);
+            y0 = y0.min(p.position.y - m.reach_max);
+            x1 = x1.max(p.position.x + m.reach_max);
+            y1 = y1.max(p.position.y + m.reach_max);
+        }
+        let o = grid.origin();
+        let idx = |v: f64, o: f64, n: usize| {
+            (((v - o) / res).floor().max(0.0) as usize).min(n.saturating_sub(1))
+        };
+        let covers = |c: nalgebra::Point2<f64>, p: &HandlePose| {
+            let d = (c.x - p.position.x).hypot(c.y - p.position.y);
+            d >= m.reach_min
+                && d <= m.reach_max
+                && m.arm
+                    .is_none_or(|arm| arm.admits([c.x, c.y], &p.position, &p.normal, 0.0))
+        };
+        let front = |c: nalgebra::Point2<f64>, p: &HandlePose| {
+            (c.x - p.position.x) * p.normal.x + (c.y - p.position.y) * p.normal.y >= 0.0
+        };
+        let last = traj.len() - 1;
+        // Segmented moves: per free cell, the run of waypoints it covers from each waypoint
+        // it covers on the front side; `ext[s]` the longest over the cells.
+        let mut ext: Vec<usize> = (0..=last).collect();
+        let mut prefixes: Vec<(usize, usize)> = Vec::new();
+        for j in idx(y0, o.y, h)..=idx(y1, o.y, h) {
+            for i in idx(x0, o.x, w)..=idx(x1, o.x, w) {
+                if grid.is_occupied(i, j) {
+                    continue;
+                }
+                let c = grid.cell_center(i, j);
+                let cell = j * w + i;
+                let cover: Vec<bool> = traj.iter().map(|p| covers(c, p)).collect();
+                if cover.iter().all(|k| *k) && front(c, &traj[0]) {
+                    out.push(RegionCell {
+                        cell,
+                        handle,
+                        actuation,
+                        yaw: (p0.y - c.y).atan2(p0.x - c.x),
+                        segmented: false,
+                    });
+                    continue;
+                }
+                if m.segments < 2 {
+                    continue;
+                }
+                let mut run_end = vec![0usize; last + 1];
+                for k in (0..=last).rev() {
+                    run_end[k] = if k < last && cover[k] && cover[k + 1] {
+                        run_end[k + 1]
+                    } else {
+                        k
+                    };
+                }
+                if !self.base_component[cell] {
+                    continue;
+                }
+                for s in 0..last {
+                    if cover[s] && front(c, &traj[s]) {
+                        ext[s] = ext[s].max(run_end[s]);
                     }
                 }
-            }
-            if !prefixes.is_empty() {
-                let need = runs_needed(&ext);
-                for (cell, end) in prefixes {
-                    let rest = (1..=end).map(|t| need[t]).min().unwrap_or(usize::MAX);
-                    if rest < m.segments {
-                        let c = grid.cell_center(cell % w, cell / w);
-                        out.push(RegionCell {
-                            cell,
-                            handle,
-                            actuation,
-                            yaw: (p0.y - c.y).atan2(p0.x - c.x),
-                            segmented: true,
-                        });
-                    }
+                if cover[0] && front(c, &traj[0]) && run_end[0] > 0 {
+                    prefixes.push((cell, run_end[0]));
                 }
             }
         }
-        Ok(out)
+        if !prefixes.is_empty() {
+            let need = runs_needed(&ext);
+            for (cell, end) in prefixes {
+                let rest = (1..=end).map(|t| need[t]).min().unwrap_or(usize::MAX);
+                if rest < m.segments {
+                    let c = grid.cell_center(cell % w, cell / w);
+                    out.push(RegionCell {
+                        cell,
+                        handle,
+                        actuation,
+                        yaw: (p0.y - c.y).atan2(p0.x - c.x),
+                        segmented: true,
+                    });
+                }
+            }
+        }
     }
 }
 

@@ -58,26 +58,8 @@ impl Replay<'_> {
         // Segmented moves (see `ManipulationSettings`): a cell covering a prefix of a
         // trajectory from its front, the rest covered by at most `segments − 1` runs.
         let segmented = |x: f64, y: f64| {
-            let Some(runs) = &runs else {
-                return false;
-            };
-            trajectories.iter().zip(runs).any(|(traj, run)| {
-                let (p0, n0) = (traj[0].position, traj[0].normal);
-                if (x - p0.x) * n0.x + (y - p0.y) * n0.y < 0.0 {
-                    return false;
-                }
-                let prefix = traj
-                    .iter()
-                    .take_while(|p| {
-                        let d = (x - p.position.x).hypot(y - p.position.y);
-                        d >= m.reach_min
-                            && d <= m.reach_max
-                            && m.arm
-                                .is_none_or(|arm| arm.admits([x, y], &p.position, &p.normal, 0.0))
-                    })
-                    .count();
-                prefix >= 2 && run.covered_after(prefix - 1, m.segments - 1)
-            })
+            runs.as_ref()
+                .is_some_and(|runs| prefix_then_runs(&m, &trajectories, runs, [x, y]))
         };
         let before = self.free_at(state)?;
         let mut after_state = state.clone();
@@ -137,6 +119,33 @@ impl Replay<'_> {
             s.joint, counts[0], counts[1], counts[2], counts[3]
         )))
     }
+}
+
+/// Whether base position `c` covers a prefix of one of the `trajectories` from its front
+/// (at least two waypoints) and `runs` cover the rest within `m.segments − 1` runs.
+fn prefix_then_runs(
+    m: &crate::task::ManipulationSettings,
+    trajectories: &[Vec<crate::scene::HandlePose>],
+    runs: &[RunCovers],
+    [x, y]: [f64; 2],
+) -> bool {
+    trajectories.iter().zip(runs).any(|(traj, run)| {
+        let (p0, n0) = (traj[0].position, traj[0].normal);
+        if (x - p0.x) * n0.x + (y - p0.y) * n0.y < 0.0 {
+            return false;
+        }
+        let prefix = traj
+            .iter()
+            .take_while(|p| {
+                let d = (x - p.position.x).hypot(y - p.position.y);
+                d >= m.reach_min
+                    && d <= m.reach_max
+                    && m.arm
+                        .is_none_or(|arm| arm.admits([x, y], &p.position, &p.normal, 0.0))
+            })
+            .count();
+        prefix >= 2 && run.covered_after(prefix - 1, m.segments - 1)
+    })
 }
 
 /// Which waypoints of one grasp trajectory runs of the segmented rule can cover: per
