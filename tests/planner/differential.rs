@@ -4,9 +4,10 @@
 //! of `contact.rs`; TIAGo (example-robot-data) as a differential-drive robot opens a cabinet
 //! door and then the drawer behind it.
 
+use std::path::Path;
 use std::time::{Duration, Instant};
 
-use kinscene::kinematics::robot::{BaseKind, PairSampling, RobotError, RobotModel, StowSearch};
+use kinscene::kinematics::robot::{BaseKind, RobotDescription, RobotError, RobotModel};
 use kinscene::motion::timing::{TimedPath, time_parameterise};
 use kinscene::planner::{HierarchicalPlanner, MotionOutcome, MotionPlan, PlannerSettings};
 use kinscene::scene::{
@@ -16,7 +17,7 @@ use kinscene::task::{Problem, Termination};
 use nalgebra::{Isometry3, Point3, Vector3};
 
 use super::contact::{RobotGeometry, recheck, recheck_robot};
-use crate::kinematics::third_party::{example_robot_data, options};
+use crate::kinematics::third_party::example_robot_data;
 
 /// Time step (s) of the finite differences.
 const DT: f64 = 1e-3;
@@ -230,37 +231,19 @@ fn tiago_hand(link: &str) -> bool {
     link.starts_with("hand_")
 }
 
-/// TIAGo with a differential-drive base: loaded as in `tests/kinematics/third_party.rs` (arm
-/// rooted at the torso, torso, head, wheels and hand frozen, stow computed, exemptions
-/// sampled), the hand's links as the contact geometry, the default base limits as forward and
-/// yaw limits.
+/// TIAGo as the crate ships its description (`robots/tiago.toml`): differential-drive base,
+/// arm rooted at the torso, torso, head, wheels and hand frozen, stow computed, exemptions
+/// sampled, the hand's links as the contact geometry; example-robot-data from the test's own
+/// lookup.
 fn tiago() -> RobotModel {
-    let urdf = example_robot_data().join("robots/tiago_description/robots/tiago.urdf");
-    let text = urdf_rs::read_file(&urdf).unwrap();
-    let mut o = options("hand_grasping_frame");
-    o.arm_root = Some("torso_lift_link".into());
-    o.tool_approach = Some([1.0, 0.0, 0.0]);
-    o.contact_links = Some(
-        text.links
-            .iter()
-            .map(|l| l.name.clone())
-            .filter(|n| tiago_hand(n))
-            .collect(),
-    );
-    let robot = RobotModel::from_urdf_file_with(&urdf, &o)
-        .unwrap()
-        .with_computed_stow(&StowSearch {
-            samples: 300,
-            ..StowSearch::default()
-        })
-        .unwrap()
-        .with_sampled_pairs(&PairSampling {
-            samples: 300,
-            ..PairSampling::default()
-        })
-        .unwrap();
-    let base = robot.base().to_differential_drive();
-    robot.with_base(base).unwrap()
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/tiago.toml");
+    let description = RobotDescription::from_file(&path).expect("the description parses");
+    let data = example_robot_data();
+    let vars = |name: &str| (name == "EXAMPLE_ROBOT_DATA").then(|| data.display().to_string());
+    let robot = RobotModel::from_description(&description, path.parent().unwrap(), &vars)
+        .expect("TIAGo's description loads");
+    assert_eq!(robot.base().kind, BaseKind::DifferentialDrive);
+    robot
 }
 
 #[test]

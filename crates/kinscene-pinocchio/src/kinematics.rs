@@ -98,8 +98,22 @@ pub fn frame_jacobian(
     data.check(model)?;
     check_q(model, q, "q")?;
     model.frame(frame)?;
-    let api = ffi::api()?;
     let mut jacobian = DMatrix::zeros(6, model.nv());
+    jacobian_into(model, data, q, frame, reference, &mut jacobian)?;
+    Ok(jacobian)
+}
+
+/// `computeFrameJacobian` into `jacobian` (6 × nv, checked by the callers with `data`, `q`
+/// and `frame`); marks the placements stale.
+fn jacobian_into(
+    model: &Model,
+    data: &mut Data,
+    q: &DVector<f64>,
+    frame: FrameIndex,
+    reference: ReferenceFrame,
+    jacobian: &mut DMatrix<f64>,
+) -> Result<(), Error> {
+    let api = ffi::api()?;
     data.set_placements_valid(false);
     // SAFETY: valid frame index; q has nq entries; `jacobian` is 6 × nv, column-major like the
     // shim's output.
@@ -114,8 +128,7 @@ pub fn frame_jacobian(
             e,
             n,
         )
-    })?;
-    Ok(jacobian)
+    })
 }
 
 /// The placement `world_from_frame` and the `LOCAL_WORLD_ALIGNED` Jacobian (6 × nv, written
@@ -147,22 +160,15 @@ pub fn frame_placement_and_jacobian(
             got: jacobian.len(),
         });
     }
+    jacobian_into(
+        model,
+        data,
+        q,
+        frame,
+        ReferenceFrame::LocalWorldAligned,
+        jacobian,
+    )?;
     let api = ffi::api()?;
-    data.set_placements_valid(false);
-    // SAFETY: valid frame index; q has nq entries; `jacobian` is 6 × nv, column-major like the
-    // shim's output.
-    ffi::call("ks_pin_frame_jacobian", |e, n| unsafe {
-        (api.frame_jacobian)(
-            model.raw(),
-            data.raw_mut(),
-            q.as_ptr(),
-            frame.0,
-            ReferenceFrame::LocalWorldAligned.raw(),
-            jacobian.as_mut_ptr(),
-            e,
-            n,
-        )
-    })?;
     let mut pose = [0.0; 7];
     // SAFETY: valid frame index; `pose` holds 7 doubles. The placements of the frame's support
     // (all the shim reads) were just computed by `computeFrameJacobian`.

@@ -88,17 +88,7 @@ pub(super) fn refine_circle(
         *g = grasp;
     }
     // Maximum-likelihood refinement over all inlier poses (positions and orientations).
-    let init = PoseCircle {
-        center,
-        axis: normal,
-        offset: e1 * radius,
-        grasp,
-    };
-    let phi: Vec<f64> = inl
-        .iter()
-        .map(|&k| model.phase(&position(&poses[k])))
-        .collect();
-    let sub: Vec<Isometry3<f64>> = inl.iter().map(|&k| poses[k]).collect();
+    let (init, phi, sub) = pose_circle_inputs(&model, poses, inl)?;
     let Some(ml) = pose_circle::refine(
         &init,
         &phi,
@@ -125,6 +115,38 @@ pub(super) fn refine_circle(
         radius,
         grasp,
     })
+}
+
+/// The pose-circle form of a circle model, with the phases of the inlier poses and the poses
+/// themselves: the input of [`pose_circle::refine`] and [`pose_circle::covariance`]. `None`
+/// for a line.
+pub(super) fn pose_circle_inputs(
+    model: &Model,
+    poses: &[Isometry3<f64>],
+    inl: &[usize],
+) -> Option<(PoseCircle, Vec<f64>, Vec<Isometry3<f64>>)> {
+    let Model::Circle {
+        center,
+        normal,
+        radius,
+        grasp,
+    } = *model
+    else {
+        return None;
+    };
+    let (e1, _) = basis(&normal);
+    let circle = PoseCircle {
+        center,
+        axis: normal,
+        offset: e1 * radius,
+        grasp,
+    };
+    let phi = inl
+        .iter()
+        .map(|&k| model.phase(&position(&poses[k])))
+        .collect();
+    let sub = inl.iter().map(|&k| poses[k]).collect();
+    Some((circle, phi, sub))
 }
 
 /// `Σ v vᵀ` over the pairs `a < b` of `inl`, `v = f(a, b)`, scaled to one pair per pose (the

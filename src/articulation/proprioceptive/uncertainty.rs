@@ -4,9 +4,10 @@
 use nalgebra::{Isometry3, Matrix2, Point3, RowVector5, Unit, Vector3};
 
 use super::ProprioceptiveSettings;
-use super::model::{Model, basis, position};
+use super::model::{Model, position};
+use super::refine::pose_circle_inputs;
 use crate::articulation::cloud::centroid;
-use crate::articulation::pose_circle::{self, PoseCircle};
+use crate::articulation::pose_circle;
 use crate::articulation::uncertainty::{PlaneCovariance, Uncertainty, tangent_basis};
 
 /// The uncertainty of `model` fitted to the inliers `inl` of `poses`, its pivot taken level
@@ -53,24 +54,8 @@ pub(super) fn uncertainty(
                 0.0,
             ))
         }
-        Model::Circle {
-            center,
-            normal,
-            radius,
-            grasp,
-        } => {
-            let (e1, _) = basis(&normal);
-            let circle = PoseCircle {
-                center,
-                axis: normal,
-                offset: e1 * radius,
-                grasp,
-            };
-            let phi: Vec<f64> = inl
-                .iter()
-                .map(|&k| model.phase(&position(&poses[k])))
-                .collect();
-            let sub: Vec<Isometry3<f64>> = inl.iter().map(|&k| poses[k]).collect();
+        Model::Circle { center, normal, .. } => {
+            let (circle, phi, sub) = pose_circle_inputs(model, poses, inl)?;
             let cov = pose_circle::covariance(
                 &circle,
                 &phi,
