@@ -156,7 +156,7 @@ pub use goal::{
 pub use lattice::Lattice;
 pub use plan::{
     BodyName, Cause, Failure, Infeasibility, Outcome, Partial, Plan, PlanFile, PlanResult,
-    PlanStatus, SearchStats, Step,
+    PlanStatus, ReachLimit, ReachShortfall, SearchStats, Step,
 };
 pub use refine::{MoveContext, NoRefinement, Refinement, Refiner};
 pub use settings::{

@@ -135,8 +135,8 @@ fn a_start_beyond_the_grid_padding_grows_the_grid() {
 /// half's 1.2 m of travel (√(0.6² + 0.47²) ≈ 0.76 m) and on the handle's front side. The plan
 /// validates with the same settings, and its base position covers the motion's start only.
 /// A wall 0.3 m behind the track keeps the grid around the whole travel.
-#[test]
-fn a_long_slide_needs_two_base_positions() {
+/// The panel of [`a_long_slide_needs_two_base_positions`] and its goal (slide to 2.4 m).
+fn long_slide() -> (kinscene::scene::SceneModel, Problem) {
     let mut b = SceneModelBuilder::new();
     b.add_part(
         PartSpec::on_base(
@@ -170,6 +170,12 @@ fn a_long_slide_needs_two_base_positions() {
     )
     .unwrap();
     let problem = Problem::from_spec(&model, &spec).unwrap();
+    (model, problem)
+}
+
+#[test]
+fn a_long_slide_needs_two_base_positions() {
+    let (model, problem) = long_slide();
     let settings = |segments| {
         let mut s = TaskSettings::default();
         s.manipulation.segments = segments;
@@ -201,4 +207,60 @@ fn a_long_slide_needs_two_base_positions() {
     // breaks the base-pose rule.
     let v = kinscene::task::validate(&model, &problem, &p.steps, &one).unwrap();
     assert!(!v.valid, "{v:?}");
+}
+
+/// The report of an infeasible goal says which limit of the manipulation region no base
+/// cell meets, in numbers (`Cause::NoBasePose`'s shortfall), on the panel of
+/// [`a_long_slide_needs_two_base_positions`]:
+/// - one base position per move: the handle's 17 waypoints (16 steps over 2.4 m, 0.15 m
+///   apart) are each within reach of some cell, but one cell within `reach_max` = 0.9 m of
+///   waypoints 0..=e needs 0.15·e ≤ 1.8, so it holds at most 13 (e = 12), and a cell 0.3 m
+///   in front of the track holds waypoints 0..=10 (√(0.75² + 0.3²) = 0.81 ≤ 0.9), so at
+///   least 11;
+/// - a grasp band below the handle (`height_max` = 0.3): the handle's height 0.35 m (its
+///   grasp point) at waypoint 0, exactly.
+#[test]
+fn an_infeasible_report_gives_the_reach_limit_in_numbers() {
+    use kinscene::task::{Cause, ReachLimit};
+    let (model, problem) = long_slide();
+    let shortfall = |s: &TaskSettings| {
+        let r = plan(&model, &problem, s, &NoRefinement, &Termination::none()).unwrap();
+        let Outcome::Infeasible(why) = r.outcome else {
+            panic!("expected infeasible, got {:?}", r.outcome)
+        };
+        let Some(Cause::NoBasePose { shortfall: Some(s) }) =
+            why.conflicts.first().map(|f| f.cause.clone())
+        else {
+            panic!("expected a shortfall in numbers: {why:?}")
+        };
+        (*s, why.message)
+    };
+    let mut s = TaskSettings::default();
+    s.lattice.interior_values = 0;
+    let (split, message) = shortfall(&s);
+    assert_eq!(split.handle, "panel_handle");
+    assert_eq!(split.waypoints, 17);
+    let ReachLimit::Split { held, segments } = split.limit else {
+        panic!("expected a split: {split:?}")
+    };
+    assert!((11..=13).contains(&held), "{split:?}");
+    assert_eq!(segments, 1);
+    assert!(
+        message.contains(&format!("holds at most the first {held}")),
+        "{message}"
+    );
+    s.manipulation.height_max = 0.3;
+    let (band, message) = shortfall(&s);
+    let ReachLimit::Height {
+        waypoint,
+        z,
+        band: b,
+    } = band.limit
+    else {
+        panic!("expected the height band: {band:?}")
+    };
+    assert_eq!(waypoint, 0);
+    assert!((z - 0.35).abs() < 1e-12, "{z}");
+    assert_eq!(b, [0.0, 0.3]);
+    assert!(message.contains("height 0.350 m"), "{message}");
 }

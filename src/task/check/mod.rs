@@ -26,6 +26,7 @@ mod bound;
 mod caches;
 mod occupancy;
 mod region;
+mod shortfall;
 mod sweep;
 mod swept;
 mod verdict;

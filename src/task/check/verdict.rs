@@ -84,7 +84,7 @@ impl Checker<'_> {
         let region = self.cached_region(caches, data, key, joint, to)?;
         if region.is_empty() {
             return Ok(Verdict::Infeasible {
-                cause: Cause::NoBasePose,
+                cause: Cause::NoBasePose { shortfall: None },
                 blockers: Blockers::Known(Vec::new()),
             });
         }
@@ -112,7 +112,7 @@ impl Checker<'_> {
             .collect();
         if feasible.is_empty() {
             let cause = if clear.is_empty() && region.iter().all(|r| swept.contains(r.cell)) {
-                Cause::NoBasePose
+                Cause::NoBasePose { shortfall: None }
             } else if reachable.is_empty() {
                 Cause::PathBlocked {
                     blockers: Vec::new(),

@@ -24,11 +24,15 @@ use super::goal::Problem;
 use super::greedy;
 use super::heuristic::Heuristic;
 use super::lattice::Lattice;
-use super::plan::{Infeasibility, Outcome, PlanResult, SearchStats, Step};
+use super::plan::{Cause, Infeasibility, Outcome, PlanResult, SearchStats, Step};
 use super::refine::Refiner;
 use super::settings::TaskSettings;
 use super::{Error, Termination};
 use crate::scene::{JointId, SceneData, SceneModel};
+
+/// Most moves a goal target's static base-pose proof checks
+/// ([`Checker::target_without_base_pose`]); each costs one manipulation region.
+const STATIC_BASE_POSE_CHECKS: usize = 256;
 
 /// One search: the problem with its checker and heuristic, and what carries over from pass
 /// to pass and from round to round (the memo, the incumbent, the active joints).
@@ -180,19 +184,59 @@ impl Search<'_> {
     /// Static proofs of infeasibility (sound for the whole lattice, see `conflict.rs` and
     /// `heuristic.rs`): a goal joint no move can bring into its target, or two goal parts
     /// that collide in every goal state.
-    fn static_infeasibility(&self) -> Result<Option<Infeasibility>, Error> {
+    fn static_infeasibility(&mut self) -> Result<Option<Infeasibility>, Error> {
         if self.problem.goal.is_satisfied(&self.problem.start) {
             return Ok(None);
         }
         let unreachable = self.heuristic.unreachable_targets();
         if let Some(&k) = unreachable.first() {
+            // The direct move into the target, as the example in numbers.
+            let (joint, target) = self.problem.goal.targets()[k];
+            let from = self.problem.start.as_slice()[joint.index()];
+            let to = self.lattice.index_of(joint, target.nearest(from));
+            let to = to.and_then(|i| u16::try_from(i).ok());
+            let shortfall = match to {
+                Some(to) => self.checker.reach_shortfall(
+                    &mut self.caches,
+                    &mut self.data,
+                    &self.start_key,
+                    joint,
+                    to,
+                )?,
+                None => None,
+            };
             return Ok(Some(unreachable_target(
                 self.model,
                 self.problem,
                 self.settings,
                 self.heuristic,
                 k,
+                shortfall,
             )));
+        }
+        for (k, (joint, target)) in self.problem.goal.targets().iter().enumerate() {
+            let proof = self.checker.target_without_base_pose(
+                &mut self.caches,
+                &mut self.data,
+                &self.start_key,
+                *joint,
+                &|v| target.contains(v),
+                STATIC_BASE_POSE_CHECKS,
+            )?;
+            if let Some((_, cause)) = proof {
+                let shortfall = match cause {
+                    Cause::NoBasePose { shortfall } => shortfall.map(|s| *s),
+                    _ => None,
+                };
+                return Ok(Some(unreachable_target(
+                    self.model,
+                    self.problem,
+                    self.settings,
+                    self.heuristic,
+                    k,
+                    shortfall,
+                )));
+            }
         }
         static_conflict(
             self.model,

@@ -11,7 +11,8 @@ use crate::task::check::{Caches, Checker};
 use crate::task::goal::Problem;
 use crate::task::heuristic::Heuristic;
 use crate::task::plan::{
-    Cause, Failure, Infeasibility, Outcome, Partial, Plan, PlanResult, SearchStats, Step,
+    Cause, Failure, Infeasibility, Outcome, Partial, Plan, PlanResult, ReachShortfall, SearchStats,
+    Step,
 };
 use crate::task::settings::TaskSettings;
 
@@ -75,6 +76,7 @@ pub(super) fn unreachable_target(
     settings: &TaskSettings,
     heuristic: &Heuristic<'_>,
     k: usize,
+    shortfall: Option<ReachShortfall>,
 ) -> Infeasibility {
     let (joint, target) = problem.goal.targets()[k];
     let name = model.joints()[joint.index()].name.clone();
@@ -87,7 +89,13 @@ pub(super) fn unreachable_target(
              spans at most {:.3} m",
             arm.radius
         ),
-        _ => String::new(),
+        _ => match &shortfall {
+            Some(s) => format!(
+                ": e.g. moving it from {from:.4} to {:.4}: {s}",
+                target.nearest(from)
+            ),
+            None => String::new(),
+        },
     };
     Infeasibility {
         message: format!(
@@ -98,7 +106,9 @@ pub(super) fn unreachable_target(
             joint: name,
             from,
             to: target.nearest(from),
-            cause: Cause::NoBasePose,
+            cause: Cause::NoBasePose {
+                shortfall: shortfall.map(Box::new),
+            },
         }],
         start_collisions: Vec::new(),
     }
@@ -186,8 +196,16 @@ pub(super) fn infeasibility(
     let mut conflicts = Vec::new();
     for (_, f) in grouped.into_iter().take(32) {
         let mut cause = f.cause.clone();
-        if let Cause::PathBlocked { blockers } = &mut cause {
-            *blockers = checker.path_blockers(caches, data, &f.key, f.joint, f.to)?;
+        match &mut cause {
+            Cause::PathBlocked { blockers } => {
+                *blockers = checker.path_blockers(caches, data, &f.key, f.joint, f.to)?;
+            }
+            Cause::NoBasePose { shortfall } => {
+                *shortfall = checker
+                    .reach_shortfall(caches, data, &f.key, f.joint, f.to)?
+                    .map(Box::new);
+            }
+            _ => {}
         }
         conflicts.push(Failure {
             joint: model.joints()[f.joint.index()].name.clone(),
@@ -195,6 +213,28 @@ pub(super) fn infeasibility(
             to: lattice.values(f.joint)[f.to as usize],
             cause,
         });
+    }
+    // The moves into the unreached targets were pruned by their bound without a check: the
+    // direct move from the start (the first node closed), when it has no base pose.
+    if let (true, Some(start)) = (conflicts.is_empty(), nodes.first().map(|n| &n.key)) {
+        for j in &unreached {
+            let Some(i) = problem.goal.target(*j) else {
+                continue;
+            };
+            let from = lattice.values(*j)[start[j.index()] as usize];
+            let Some(to) = lattice.index_of(*j, i.nearest(from)) else {
+                continue;
+            };
+            let to = to as u16;
+            if let Some(cause) = checker.no_base_pose(caches, data, start, *j, to)? {
+                conflicts.push(Failure {
+                    joint: model.joints()[j.index()].name.clone(),
+                    from,
+                    to: lattice.values(*j)[to as usize],
+                    cause,
+                });
+            }
+        }
     }
     forward_kinematics(model, data, &problem.start)?;
     let start_collisions = collisions(model, data, &checker.settings.sweep.collision)?
