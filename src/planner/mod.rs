@@ -171,6 +171,11 @@ impl HierarchicalPlanner {
                 + settings.ik.rotation_tolerance * arm.wrist_out[1].abs().hypot(arm.wrist_radius);
             settings.task.manipulation.arm = Some(arm);
         }
+        if settings.placement.stow.is_none() {
+            // Base poses from which the arm cannot be stowed at the step's start or end are
+            // not drawn: the arm comes from the stow and goes back to it.
+            settings.placement.stow = Some(settings.stow.clone().unwrap_or(robot.neutral()));
+        }
         let ik = IkSolver::new(robot.pinocchio(), robot.tool_frame(), settings.ik.clone())?;
         Ok(HierarchicalPlanner {
             robot,

@@ -932,7 +932,7 @@ pub(super) fn recheck_robot(
 
 /// Plans `problem` with the shipped robot and default settings (120 s budget); panics unless
 /// solved.
-fn solve(model: &SceneModel, problem: &Problem) -> (HierarchicalPlanner, MotionPlan) {
+pub(super) fn solve(model: &SceneModel, problem: &Problem) -> (HierarchicalPlanner, MotionPlan) {
     let planner = super::planner();
     let result = planner
         .plan(

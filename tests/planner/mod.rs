@@ -2,6 +2,7 @@
 
 mod contact;
 mod differential;
+mod goals;
 mod reach;
 mod segments;
 

@@ -234,15 +234,24 @@ pub fn plan_manipulation(
 }
 
 fn check_seed(robot: &RobotModel, seed: &DVector<f64>) -> Result<(), PlacementError> {
-    if seed.len() != robot.dof() {
+    check_arm(robot, seed, "arm seed")
+}
+
+/// `q` is an arm configuration of `robot`: its size and finite values (`what` names it).
+fn check_arm(
+    robot: &RobotModel,
+    q: &DVector<f64>,
+    what: &'static str,
+) -> Result<(), PlacementError> {
+    if q.len() != robot.dof() {
         return Err(PlacementError::DimensionMismatch {
-            what: "arm seed",
+            what,
             expected: robot.dof(),
-            got: seed.len(),
+            got: q.len(),
         });
     }
-    if seed.iter().any(|v| !v.is_finite()) {
-        return Err(PlacementError::NonFinite { what: "arm seed" });
+    if q.iter().any(|v| !v.is_finite()) {
+        return Err(PlacementError::NonFinite { what });
     }
     Ok(())
 }
@@ -285,10 +294,14 @@ pub fn place_and_plan(
     let mut prepared = Prepared::new(problem, &motion, settings.grasp)?;
     prepared.termination = termination.capped(settings.sampling.budget);
     let seed = problem.robot.neutral();
+    if let Some(stow) = &settings.stow {
+        check_arm(problem.robot, stow, "stow")?;
+    }
     let sampled = sampled::sample(
         &prepared,
         robot_from,
         &seed,
+        settings.stow.as_ref(),
         &settings.sampling,
         &settings.manipulation,
     )?;

@@ -11,7 +11,7 @@ use rand_chacha::ChaCha8Rng;
 use super::manipulation::{Cutoff, Prepared};
 use super::plan::ManipulationPlan;
 use super::{ManipulationSettings, PlacementError, PlacementObjective, SamplingSettings};
-use crate::kinematics::robot::RobotConfig;
+use crate::kinematics::robot::{Exempt, RobotConfig};
 use crate::scene::PartId;
 use crate::scene::collision::Body;
 
@@ -92,6 +92,7 @@ pub(crate) fn sample(
     prepared: &Prepared<'_>,
     robot_from: [f64; 3],
     seed: &DVector<f64>,
+    stow: Option<&DVector<f64>>,
     sampling: &SamplingSettings,
     manipulation: &ManipulationSettings,
 ) -> Result<SampleResult, PlacementError> {
@@ -117,7 +118,11 @@ pub(crate) fn sample(
         if grid.cell_of(Point2::new(base[0], base[1])).is_none() {
             return Ok(false);
         }
-        if let Some(body) = base_collides(prepared, base, seed, sampling.base_margin)? {
+        let stowed = match stow {
+            Some(q) => stow_collides(prepared, base, q, manipulation.margin)?,
+            None => None,
+        };
+        if let Some(body) = base_collides(prepared, base, seed, sampling.base_margin)?.or(stowed) {
             if let Body::Part(part) = body {
                 obstacles.insert(part);
             }
@@ -198,6 +203,27 @@ fn base_collides(
         .iter()
         .find_map(|data| prepared.base_obstacle(&poses, data, margin))
         .map(|(_, body)| body))
+}
+
+/// The first body the whole robot at `base` with the arm at `stow` comes within `margin` of,
+/// at the motion's start or end state.
+fn stow_collides(
+    prepared: &Prepared<'_>,
+    base: [f64; 3],
+    stow: &DVector<f64>,
+    margin: f64,
+) -> Result<Option<Body>, PlacementError> {
+    let poses = prepared.problem.robot.link_poses(&RobotConfig {
+        base,
+        arm: stow.clone(),
+    })?;
+    let p = &prepared.problem;
+    let ends = [prepared.scene.first(), prepared.scene.last()];
+    Ok(ends.into_iter().flatten().find_map(|data| {
+        p.collision
+            .scene_collision(&poses, p.model, data, Exempt::Nothing, margin)
+            .map(|(_, body)| body)
+    }))
 }
 
 /// The parts a plan's waypoints (or the segments to them) touched.

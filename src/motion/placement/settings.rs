@@ -3,6 +3,7 @@
 use std::time::Duration;
 
 use kinscene_casadi::NlpSettings;
+use nalgebra::DVector;
 
 use super::PlacementError;
 use super::grasp::GraspRotation;
@@ -222,13 +223,19 @@ pub struct PlacementSettings {
     /// The optimiser (used by [`PlacementMethod::Optimised`]).
     pub optimisation: OptimisationSettings,
     /// Length (m) of the straight approach to the first grasp frame and of the straight
-    /// retreat from the last, along the handle's normal, >= 0 (default 0.10; 0: none). The
+    /// retreat from the last, along the handle's normal, >= 0 (default 0.05; 0: none). The
     /// base pose is chosen for the whole sequence: pre-grasp, approach, handle trajectory,
     /// retreat, post-grasp ([`JointMotion::with_approach`](super::JointMotion::with_approach)).
     pub approach_distance: f64,
-    /// Waypoints of the straight approach and of the retreat each (default 5: every 2 cm of
-    /// the default distance); 0 with a positive distance is rejected.
+    /// Waypoints of the straight approach and of the retreat each (default 3); 0 with a
+    /// positive distance is rejected.
     pub approach_steps: usize,
+    /// The arm configuration the robot arrives with and leaves with (its stow). With it, a
+    /// base pose is drawn only if the whole robot in this configuration keeps
+    /// [`ManipulationSettings::margin`] from the scene at the motion's start and end states,
+    /// so the arm can go from the stow to the handle and back there; `None` (default): the
+    /// base links alone. The hierarchical planner sets its stow.
+    pub stow: Option<DVector<f64>>,
 }
 
 impl Default for PlacementSettings {
@@ -242,6 +249,7 @@ impl Default for PlacementSettings {
             optimisation: OptimisationSettings::default(),
             approach_distance: 0.05,
             approach_steps: 3,
+            stow: None,
         }
     }
 }
