@@ -664,6 +664,28 @@ fn plan_with_a_differential_base_never_moves_sideways() {
         String::from_utf8_lossy(&output.stderr)
     );
     let doc: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let pieces = turns_and_straight_drives(&doc);
+    assert!(
+        pieces >= 2,
+        "the base had to turn and drive: {pieces} pieces"
+    );
+
+    for extra in [
+        &["--robot", "gen3", "--base", "sideways"][..],
+        &["--base", "differential"][..],
+    ] {
+        let output = plan_kitchen(&goal_path("dishwasher.toml"), extra);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{extra:?}: {stderr}");
+        assert!(stderr.contains("--base"), "{extra:?}: {stderr}");
+    }
+}
+
+/// The pieces of the document's base paths, each checked to be a turn in place or a drive
+/// along the heading (from the positions: the displacement across the heading below 1e-9 m,
+/// and no turn while driving).
+#[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
+fn turns_and_straight_drives(doc: &Value) -> usize {
     let mut pieces = 0;
     for m in doc["motion"].as_array().unwrap() {
         let positions: Vec<[f64; 3]> = m["base_path"]["positions"]
@@ -686,20 +708,7 @@ fn plan_with_a_differential_base_never_moves_sideways() {
             pieces += 1;
         }
     }
-    assert!(
-        pieces >= 2,
-        "the base had to turn and drive: {pieces} pieces"
-    );
-
-    for extra in [
-        &["--robot", "gen3", "--base", "sideways"][..],
-        &["--base", "differential"][..],
-    ] {
-        let output = plan_kitchen(&goal_path("dishwasher.toml"), extra);
-        let stderr = String::from_utf8_lossy(&output.stderr);
-        assert_eq!(output.status.code(), Some(2), "{extra:?}: {stderr}");
-        assert!(stderr.contains("--base"), "{extra:?}: {stderr}");
-    }
+    pieces
 }
 
 #[test]
@@ -1033,13 +1042,21 @@ fn plan_with_a_bad_robot_description_names_the_element() {
     );
     let line = assert_bad_input(&run("syntax.toml", "[tool\n", &[]));
     assert!(line.contains("robot description"), "{line}");
-    // TIAGo from example-robot-data, found through the environment.
+}
+
+/// `--robot robots/tiago.toml`: TIAGo from example-robot-data, found through the environment
+/// (without it, bad input naming the variable), plans the counter drawer end to end with the
+/// differential drive its description gives it.
+#[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
+#[test]
+fn plan_with_tiago_s_description_end_to_end() {
     let tiago = repo().join("robots/tiago.toml");
     let scene = counter_path();
     let goal = scratch_file(
         "counter_goal_tiago.toml",
         "[goal]\ndrawer_slide = { min = 0.25 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
     );
+    let out = scratch_file("counter_motion_tiago.json", "");
     let tiago_plan = |data: Option<&Path>| {
         let mut command = Command::new(env!("CARGO_BIN_EXE_kinscene"));
         command.args([
@@ -1051,7 +1068,9 @@ fn plan_with_a_bad_robot_description_names_the_element() {
             "--robot",
             arg(&tiago),
             "--budget",
-            "1s",
+            "120s",
+            "--out",
+            arg(&out),
         ]);
         match data {
             Some(path) => command.env("EXAMPLE_ROBOT_DATA", path),
@@ -1064,13 +1083,18 @@ fn plan_with_a_bad_robot_description_names_the_element() {
         line.contains("EXAMPLE_ROBOT_DATA") && line.contains("packages.example-robot-data"),
         "{line}"
     );
+    // End to end: TIAGo's description makes its base a differential drive.
     let output = tiago_plan(Some(&example_robot_data()));
-    assert_ne!(
+    assert_eq!(
         output.status.code(),
-        Some(2),
+        Some(0),
         "{}",
         String::from_utf8_lossy(&output.stderr)
     );
+    let doc: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(doc["robot"], "tiago");
+    assert_eq!(doc["steps"][0]["joint"], "drawer_slide");
+    assert!(turns_and_straight_drives(&doc) >= 1);
 }
 
 /// `share/example-robot-data` in the venv's cmeel prefix (installed by `setup.sh`).
