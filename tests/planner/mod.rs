@@ -1,5 +1,6 @@
 //! The hierarchical planner end to end: task order, placement, OMPL paths, timing.
 
+mod base_joints;
 mod contact;
 mod differential;
 mod goals;
