@@ -165,10 +165,12 @@ impl HierarchicalPlanner {
                 + settings.placement.manipulation.finger_clearance;
             let mut arm = reach::arm_reach(&robot, standoff);
             // The IK's tolerances: the tool within `position_tolerance` of its target and its
-            // axis within `rotation_tolerance`, which moves the wrist point by up to that angle
-            // times its distance from the tool.
+            // axis within `rotation_tolerance` (plus the approach cone), which moves the wrist
+            // point by up to that angle times its distance from the tool.
+            let tilt =
+                settings.ik.rotation_tolerance + settings.placement.manipulation.approach_cone;
             arm.wrist_radius += settings.ik.position_tolerance
-                + settings.ik.rotation_tolerance * arm.wrist_out[1].abs().hypot(arm.wrist_radius);
+                + tilt * arm.wrist_out[1].abs().hypot(arm.wrist_radius);
             settings.task.manipulation.arm = Some(arm);
         }
         if settings.placement.stow.is_none() {

@@ -1081,3 +1081,81 @@ fn the_iteration_budget_makes_solves_independent_of_the_machine_load() {
         "the unreachable targets end on the iteration budget"
     );
 }
+
+/// A planar 2R arm (both joints about +z, so the tool's z stays on +z): a target axis tilted
+/// 0.3 rad from +z is out of reach exactly (`PositionAxis`) and within a cone of half-angle
+/// 0.35 rad (`PositionCone` converges, the tool's z 0.3 rad from the axis, measured with FK),
+/// but not within 0.25 rad (the angle beyond the cone, 0.05 rad, stays). A half-angle outside
+/// `[0, π/2]` or NaN is a typed error.
+#[test]
+fn a_position_cone_accepts_a_tilted_approach_and_nothing_beyond_it() {
+    let mut b = pin::ModelBuilder::new();
+    let limits = JointLimits::position(-3.0, 3.0);
+    let j1 = b
+        .add_joint(
+            "j1",
+            JointIndex::UNIVERSE,
+            Isometry3::identity(),
+            JointKind::Revolute { axis: Vector3::z() },
+            limits,
+        )
+        .unwrap();
+    let j2 = b
+        .add_joint(
+            "j2",
+            j1,
+            Isometry3::translation(0.5, 0.0, 0.0),
+            JointKind::Revolute { axis: Vector3::z() },
+            limits,
+        )
+        .unwrap();
+    let tip = b
+        .add_frame("tip", j2, Isometry3::translation(0.5, 0.0, 0.0))
+        .unwrap();
+    let model = b.build().unwrap();
+    let settings = IkSettings {
+        restarts: 3,
+        ..IkSettings::default()
+    };
+    let solver = IkSolver::new(&model, tip, settings.clone()).unwrap();
+    let position = Point3::new(0.3, 0.6, 0.0);
+    let axis = Unit::new_normalize(Vector3::new(0.0, 0.3f64.sin(), 0.3f64.cos()));
+    let cone = |half_angle| IkTarget::PositionCone {
+        position,
+        axis,
+        half_angle,
+    };
+    assert!(
+        converged(
+            solver
+                .solve(&IkTarget::PositionAxis { position, axis }, &model.neutral())
+                .unwrap()
+        )
+        .is_none()
+    );
+    let q =
+        converged(solver.solve(&cone(0.35), &model.neutral()).unwrap()).expect("within the cone");
+    let reached = tool_pose(&model, tip, &q);
+    assert!((reached.translation.vector - position.coords).norm() <= settings.position_tolerance);
+    let tilt = (reached.rotation * Vector3::z()).angle(&axis);
+    assert!((tilt - 0.3).abs() < 1e-9, "tilt {tilt}");
+    match solver.solve(&cone(0.25), &model.neutral()).unwrap() {
+        IkOutcome::Infeasible(IkFailure {
+            best: IkBest { rotation_error, .. },
+            ..
+        }) => assert!(
+            (rotation_error - 0.05).abs() < 1e-6,
+            "rotation error {rotation_error}"
+        ),
+        other => panic!("0.3 rad is beyond a 0.25 rad cone: {other:?}"),
+    }
+    for bad in [-0.1, 2.0, f64::NAN] {
+        assert!(
+            matches!(
+                solver.solve(&cone(bad), &model.neutral()),
+                Err(IkError::InvalidCone { .. })
+            ),
+            "half-angle {bad}"
+        );
+    }
+}

@@ -79,6 +79,14 @@ fn errors_by_robot_fk(robot: &RobotModel, q: &DVector<f64>, target: &IkTarget) -
             (reached.translation.vector - position.coords).norm(),
             (reached.rotation * Vector3::z()).angle(axis),
         ),
+        IkTarget::PositionCone {
+            position,
+            axis,
+            half_angle,
+        } => (
+            (reached.translation.vector - position.coords).norm(),
+            ((reached.rotation * Vector3::z()).angle(axis) - half_angle).max(0.0),
+        ),
     }
 }
 

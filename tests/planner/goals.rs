@@ -60,3 +60,52 @@ fn a_wide_cabinet_door_opens_90_degrees_with_the_gen3() {
 fn an_oven_door_opens_flat_with_the_gen3() {
     planned_and_rechecked("oven", "oven_door_hinge");
 }
+
+/// With an approach cone of 0.3 rad (`ManipulationSettings::approach_cone`), the counter drawer
+/// (handle facing −x, so the approach is +x) is planned, the tool's +z stays within 0.3 rad
+/// (plus the rotation tolerance) of +x at every manipulation sample by the robot's FK, and the
+/// independent re-checker accepts the plan.
+#[test]
+fn an_approach_cone_keeps_the_tool_within_it_and_the_contact_rule() {
+    use kinscene::kinematics::robot::{RobotConfig, RobotModel};
+    use kinscene::planner::{HierarchicalPlanner, MotionOutcome, PlannerSettings};
+    use kinscene::task::Termination;
+    use nalgebra::{DVector, Vector3};
+
+    let mut settings = PlannerSettings::default();
+    settings.placement.manipulation.approach_cone = 0.3;
+    let tolerance = settings.placement.manipulation.rotation_tolerance;
+    let robot = RobotModel::kinova_gen3_mobile();
+    let planner = HierarchicalPlanner::new(robot.clone(), settings).unwrap();
+    let model = super::counter_with_drawer(0.75);
+    let problem = super::problem(
+        &model,
+        "[goal]\ndrawer_slide = { min = 0.25 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
+    );
+    let result = planner
+        .plan(
+            &model,
+            &problem,
+            &Termination::after(std::time::Duration::from_secs(120)),
+        )
+        .expect("valid input");
+    let MotionOutcome::Solved(plan) = result.outcome else {
+        panic!("expected a plan, got {:?}", result.outcome);
+    };
+    let mut largest: f64 = 0.0;
+    for step in &plan.steps {
+        for q in &step.manipulation.positions {
+            let tool = robot
+                .world_from_tool(&RobotConfig {
+                    base: step.base,
+                    arm: DVector::from_column_slice(q),
+                })
+                .unwrap();
+            largest = largest.max((tool.rotation * Vector3::z()).angle(&Vector3::x()));
+        }
+    }
+    assert!(largest <= 0.3 + tolerance, "tool tilted {largest} rad");
+    let report = recheck(&planner, &model, &problem.start, &plan).unwrap_or_else(|v| panic!("{v}"));
+    eprintln!("cone: largest tilt {largest:.3} rad; {report}");
+    assert!(report.contact_samples > 0);
+}

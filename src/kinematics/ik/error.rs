@@ -28,6 +28,13 @@ pub enum IkError {
         /// The axis' Euclidean norm.
         norm: f64,
     },
+    /// The half-angle of a [`crate::kinematics::ik::IkTarget::PositionCone`] is not in
+    /// `[0, π/2]` (or not finite).
+    #[error("target cone half-angle {half_angle} rad is not in [0, pi/2]")]
+    InvalidCone {
+        /// The half-angle given (rad).
+        half_angle: f64,
+    },
     /// The rotation of a [`crate::kinematics::ik::IkTarget::Pose`] is not a unit quaternion.
     #[error("target rotation quaternion has norm {norm}, not 1")]
     NonUnitRotation {

@@ -23,14 +23,25 @@ pub enum IkTarget {
         /// Direction of tool +z (root frame).
         axis: Unit<Vector3<f64>>,
     },
+    /// Tool origin at `position` with the tool +z axis within `half_angle` of `axis` (a cone
+    /// about it); the rotation about tool +z is free (up to 5 constraints: the angle beyond
+    /// the cone is the rotation error). For grasps that tolerate a tilted approach.
+    PositionCone {
+        /// Tool origin (m, root frame).
+        position: Point3<f64>,
+        /// The cone's axis (root frame).
+        axis: Unit<Vector3<f64>>,
+        /// The cone's half-angle (rad), in `[0, π/2]`; 0 is [`IkTarget::PositionAxis`].
+        half_angle: f64,
+    },
 }
 
 impl IkTarget {
-    /// Number of task rows: 6 for a pose, 5 for a position + axis.
+    /// Number of task rows: 6 for a pose, 5 for a position + axis or cone.
     pub fn rows(&self) -> usize {
         match self {
             IkTarget::Pose(_) => 6,
-            IkTarget::PositionAxis { .. } => 5,
+            IkTarget::PositionAxis { .. } | IkTarget::PositionCone { .. } => 5,
         }
     }
 
@@ -47,6 +58,15 @@ impl IkTarget {
             IkTarget::PositionAxis { position, axis } => {
                 let z = root_from_tool.rotation * Vector3::z();
                 ((position.coords - p).norm(), angle_between(&z, axis))
+            }
+            IkTarget::PositionCone {
+                position,
+                axis,
+                half_angle,
+            } => {
+                let z = root_from_tool.rotation * Vector3::z();
+                let beyond = (angle_between(&z, axis) - half_angle).max(0.0);
+                ((position.coords - p).norm(), beyond)
             }
         }
     }
@@ -70,6 +90,22 @@ impl IkTarget {
                 if (norm - 1.0).abs() > UNIT_TOLERANCE {
                     return Err(IkError::NonUnitRotation { norm });
                 }
+            }
+            IkTarget::PositionCone {
+                position,
+                axis,
+                half_angle,
+            } => {
+                if !(0.0..=std::f64::consts::FRAC_PI_2).contains(half_angle) {
+                    return Err(IkError::InvalidCone {
+                        half_angle: *half_angle,
+                    });
+                }
+                return IkTarget::PositionAxis {
+                    position: *position,
+                    axis: *axis,
+                }
+                .validate();
             }
             IkTarget::PositionAxis { position, axis } => {
                 if !position.coords.iter().all(|c| c.is_finite()) {
@@ -185,6 +221,31 @@ impl Task {
                 }
                 self.position_error = dp.norm();
                 self.rotation_error = theta;
+            }
+            IkTarget::PositionCone {
+                position,
+                axis,
+                half_angle,
+            } => {
+                let dp = position.coords - p;
+                let z = root_from_tool.rotation * Vector3::z();
+                let beyond = angle_between(&z, axis) - half_angle;
+                self.residual.rows_mut(0, 3).copy_from(&dp);
+                self.residual[3] = beyond.max(0.0);
+                self.residual[4] = 0.0;
+                // Inside the cone the axis is free; outside, only the tilt towards the axis
+                // is constrained (the row of `u₁`, as for a position + axis).
+                let u1 = Unit::try_new(z.cross(axis), 1e-12)
+                    .unwrap_or_else(|| perpendicular(&z))
+                    .into_inner();
+                for (k, &c) in columns.iter().enumerate() {
+                    let angular =
+                        Vector3::new(jacobian[(3, c)], jacobian[(4, c)], jacobian[(5, c)]);
+                    self.jacobian[(3, k)] = if beyond > 0.0 { u1.dot(&angular) } else { 0.0 };
+                    self.jacobian[(4, k)] = 0.0;
+                }
+                self.position_error = dp.norm();
+                self.rotation_error = beyond.max(0.0);
             }
         }
     }

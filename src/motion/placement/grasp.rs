@@ -57,12 +57,28 @@ impl GraspFrame {
 
     /// The IK target for a base at `world_from_base`, in the base frame (the IK's root frame).
     pub fn ik_target(&self, world_from_base: &Isometry3<f64>, rotation: GraspRotation) -> IkTarget {
+        self.ik_target_in_cone(world_from_base, rotation, 0.0)
+    }
+
+    /// [`ik_target`](Self::ik_target) with the tool axis allowed within `half_angle` (rad) of
+    /// the approach direction when the rotation is free ([`IkTarget::PositionCone`]; 0: the
+    /// exact axis).
+    pub fn ik_target_in_cone(
+        &self,
+        world_from_base: &Isometry3<f64>,
+        rotation: GraspRotation,
+        half_angle: f64,
+    ) -> IkTarget {
         let base_from_world = world_from_base.inverse();
+        let position = base_from_world * self.position;
+        let axis = Unit::new_normalize(base_from_world * self.approach.into_inner());
         match rotation {
-            GraspRotation::Free => IkTarget::PositionAxis {
-                position: base_from_world * self.position,
-                axis: Unit::new_normalize(base_from_world * self.approach.into_inner()),
+            GraspRotation::Free if half_angle > 0.0 => IkTarget::PositionCone {
+                position,
+                axis,
+                half_angle,
             },
+            GraspRotation::Free => IkTarget::PositionAxis { position, axis },
             GraspRotation::Fixed => IkTarget::Pose(base_from_world * self.world_from_tool),
         }
     }

@@ -192,15 +192,20 @@ impl<'a> Prepared<'a> {
 
     /// Position and rotation error of the tool at `(base, q)` w.r.t. waypoint `k`, from the
     /// robot's forward kinematics: the distance to the grasp point, and the angle between tool
-    /// +z and the approach direction (for [`GraspRotation::Fixed`], the angle of the full
-    /// rotation error).
-    pub(crate) fn tool_errors(&self, world_from_tool: &Isometry3<f64>, k: usize) -> (f64, f64) {
+    /// +z and the approach direction beyond the approach cone (for [`GraspRotation::Fixed`],
+    /// the angle of the full rotation error).
+    pub(crate) fn tool_errors(
+        &self,
+        world_from_tool: &Isometry3<f64>,
+        k: usize,
+        settings: &ManipulationSettings,
+    ) -> (f64, f64) {
         let g = &self.motion.grasps[k];
         let position = (world_from_tool.translation.vector - g.position.coords).norm();
         let angle = match self.rotation {
             GraspRotation::Free => {
                 let z = world_from_tool.rotation * Vector3::z();
-                z.angle(&g.approach)
+                (z.angle(&g.approach) - settings.approach_cone).max(0.0)
             }
             GraspRotation::Fixed => {
                 (g.world_from_tool.rotation * world_from_tool.rotation.inverse()).angle()
@@ -233,7 +238,7 @@ impl<'a> Prepared<'a> {
             let approach = a.approach.lerp(&b.approach, t);
             let z = tool.rotation * Vector3::z();
             if (tool.translation.vector - want).norm() > settings.tracking_tolerance
-                || z.angle(&approach) > settings.tracking_angle
+                || z.angle(&approach) > settings.tracking_angle + settings.approach_cone
             {
                 return Ok(false);
             }
@@ -258,7 +263,7 @@ impl<'a> Prepared<'a> {
             base,
             arm: q.clone(),
         })?;
-        let (position_error, rotation_error) = self.tool_errors(&world_from_tool, k);
+        let (position_error, rotation_error) = self.tool_errors(&world_from_tool, k, settings);
         let in_limits = q
             .iter()
             .zip(self.lower.iter().zip(self.upper.iter()))
@@ -426,7 +431,11 @@ impl<'a> Prepared<'a> {
                     }),
                 )
             } else {
-                let target = grasp.ik_target(&world_from_base, self.rotation);
+                let target = grasp.ik_target_in_cone(
+                    &world_from_base,
+                    self.rotation,
+                    settings.approach_cone,
+                );
                 let continuing = prev.as_ref().filter(|_| prev_reached);
                 let start = prev.as_ref().unwrap_or(seed);
                 let attempt = Attempt {

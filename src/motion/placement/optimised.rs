@@ -346,7 +346,7 @@ fn verify(
         kinscene_pinocchio::forward_kinematics(model, &mut pin, q)?;
         let base_from_tool = kinscene_pinocchio::frame_placement(model, &pin, robot.tool_frame())?;
         let (position_error, rotation_error) =
-            prepared.tool_errors(&(world_from_base * base_from_tool), k);
+            prepared.tool_errors(&(world_from_base * base_from_tool), k, settings);
         let failure = if position_error > settings.position_tolerance
             || rotation_error > settings.rotation_tolerance
         {

@@ -77,6 +77,12 @@ pub struct ManipulationSettings {
     /// ([`handle_standoff`](crate::scene::collision::handle_standoff)) less this gap; then it
     /// stops that much short, out along the normal. Default 0.005.
     pub finger_clearance: f64,
+    /// Approach tolerance (rad, in `[0, π/2]`): with [`GraspRotation::Free`], the tool's +z
+    /// axis may lie anywhere within this angle of the approach direction (−normal), not only
+    /// along it (IK target [`IkTarget::PositionCone`](crate::kinematics::ik::IkTarget)); the
+    /// rotation and tracking checks allow the same tilt. Default 0 (exactly perpendicular to
+    /// the handle's face). Ignored by [`GraspRotation::Fixed`].
+    pub approach_cone: f64,
 }
 
 impl Default for ManipulationSettings {
@@ -91,6 +97,7 @@ impl Default for ManipulationSettings {
             rotation_tolerance: 1e-4,
             roll_attempts: 4,
             finger_clearance: 0.005,
+            approach_cone: 0.0,
         }
     }
 }
@@ -295,6 +302,14 @@ impl ManipulationSettings {
         positive("manipulation.position_tolerance", self.position_tolerance)?;
         positive("manipulation.rotation_tolerance", self.rotation_tolerance)?;
         non_negative("manipulation.finger_clearance", self.finger_clearance)?;
+        if !(0.0..=std::f64::consts::FRAC_PI_2).contains(&self.approach_cone) {
+            return Err(InvalidSetting::new(
+                "manipulation.approach_cone",
+                self.approach_cone,
+                "in [0, pi/2]",
+            )
+            .into());
+        }
         if self.roll_attempts == 0 {
             return Err(InvalidSetting::new("manipulation.roll_attempts", 0.0, ">= 1").into());
         }
