@@ -1,15 +1,16 @@
 (** * Reduction: the search's partial-order reduction (issue 24) — sound and complete.
 
-    Models [Reduction] (src/task/search/reduce.rs) and its use in [push_moves]
-    (src/task/search/expand.rs): in a state [k] whose goal is unmet, the search pushes only
+    Models [Interaction::reduced_component] (src/task/interaction.rs) and its use in
+    [push_moves] (src/task/search/expand.rs, [reduced_joints]): in a state [k] whose goal is
+    unmet, the search pushes only
     the moves of the joints of [C k], the component (in the dependence graph [dep]) of one
     unmet goal joint; the other moves are pruned (a stubborn set in Valmari's sense, here a
     strong stubborn set for goal reachability: a goal landmark closed under interference).
 
-    - [dep i j]: "a move of [i] and a move of [j] may interact" ([Reduction::dep]: same
-      part chain, sweep contexts, footprints — the base-pose check reads the occupancy, so
-      every joint whose parts block floor cells at some lattice value interacts with every
-      joint that has a handle);
+    - [dep i j]: "a move of [i] and a move of [j] may interact" ([Interaction::interacts]:
+      sweep contexts (ancestors, subtree, parts within reach), and floor footprints — the
+      base-pose check reads the occupancy, so every joint whose parts block floor cells at
+      some lattice value interacts with every joint that has a handle);
     - [C k]: the joints whose moves the reduced search pushes in [k];
     - [reduced C feasible]: the move predicate of the reduced search: a pruned move is
       treated as an infeasible one.
@@ -17,7 +18,7 @@
     Premises (explicit):
     - [local]: the verdict of a move of joint [j] depends only on the values of [j] and of
       the joints [i] with [dep j i] (the Rust argument: every check of [Checker::evaluate]
-      reads only those joints; see reduce.rs);
+      reads only those joints; see interaction.rs);
     - [dep_sym]: [dep] is symmetric (the Rust relation is built symmetric);
     - [dep_closed]: [C k] is closed under [dep] (a connected component is);
     - [landmark]: if [k] is not a goal state, some joint of [C k] must move before a goal
@@ -37,7 +38,7 @@
       returns a plan iff a feasible path over all joints reaches a goal state.
 
     Costs are not modelled: [reduction_complete] keeps the moves and only reorders them;
-    whether the reordered plan costs the same is argued in reduce.rs (it does when move
+    whether the reordered plan costs the same is argued in interaction.rs (it does when move
     costs do not depend on where the robot stands, [travel = 0]).
 
     Checked on the implementation by tests/task/reduction.rs

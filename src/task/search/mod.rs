@@ -23,6 +23,7 @@ use super::conflict::static_conflict;
 use super::goal::Problem;
 use super::greedy;
 use super::heuristic::Heuristic;
+use super::interaction::Interaction;
 use super::lattice::Lattice;
 use super::plan::{Infeasibility, Outcome, PlanResult, SearchStats, Step};
 use super::refine::Refiner;
@@ -58,6 +59,8 @@ struct Search<'a> {
     best_partial: Option<Best>,
     /// Sweeps checked in parallel.
     threads: usize,
+    /// The interaction relation, when the partial-order reduction is on.
+    interaction: Option<Interaction>,
 }
 
 /// Plans with the lattice search: the static proofs of infeasibility, the greedy dive, then
@@ -75,6 +78,11 @@ pub(crate) fn run(
     let start_key = start_key(model, problem, &lattice);
     let mut data = SceneData::new(model);
     let heuristic = Heuristic::new(model, problem, settings, &lattice, &checker, &mut data)?;
+    let interaction = if settings.reduction && refiner.local() {
+        Some(Interaction::of(&checker, &mut data, &start_key)?)
+    } else {
+        None
+    };
     let mut search = Search {
         model,
         problem,
@@ -95,6 +103,7 @@ pub(crate) fn run(
         active: goal_joints(model, problem),
         best_partial: None,
         threads: threads(settings),
+        interaction,
     };
     if let Some(why) = search.static_infeasibility()? {
         search.stats.elapsed = started.elapsed();

@@ -52,6 +52,9 @@ pub(super) struct Round {
     processed: usize,
     /// Expansions this round.
     expanded: usize,
+    /// Whether this round pushes only the reduced moves (the partial-order reduction; see
+    /// [`Search::reduces`]).
+    pub(super) reduced: bool,
 }
 
 /// What follows an item of a round.
@@ -135,7 +138,17 @@ impl Search<'_> {
             deferred: Vec::new(),
             processed: 0,
             expanded: 0,
+            reduced: self.reduces(),
         }
+    }
+
+    /// Whether a new round uses the partial-order reduction: when it is on, and either moves
+    /// cost the same in any order (`travel = 0`: the reduction keeps an optimal plan's cost,
+    /// see `interaction.rs`) or no plan is known yet (the round only has to find one; its proven
+    /// factor is then taken over the start's lower bound, and the passes that improve on it
+    /// run without the reduction).
+    pub(super) fn reduces(&self) -> bool {
+        self.interaction.is_some() && (self.settings.cost.travel == 0.0 || self.incumbent.is_none())
     }
 
     /// A popped item: the early growth check (before a state), the stop check, then the
