@@ -123,13 +123,13 @@ impl Interaction {
         let mut component = vec![usize::MAX; n];
         let mut sizes = Vec::new();
         let mut number = vec![usize::MAX; n];
-        for j in 0..n {
+        for (j, c) in component.iter_mut().enumerate() {
             let r = find(&mut root, j);
             if number[r] == usize::MAX {
                 number[r] = sizes.len();
                 sizes.push(0);
             }
-            component[j] = number[r];
+            *c = number[r];
             sizes[number[r]] += 1;
         }
         Ok(Interaction {

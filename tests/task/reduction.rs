@@ -34,7 +34,7 @@ use super::generators::{DOOR_BOTTOM, Kitchen, Rng, instance, nav_settings};
 
 /// `kitchen` with the navigation band 0.01–0.08 m, below every door's bottom edge.
 fn low_band(kitchen: &Kitchen) -> Kitchen {
-    assert!(DOOR_BOTTOM > 0.08, "the band must stay below the doors");
+    const { assert!(DOOR_BOTTOM > 0.08, "the band must stay below the doors") };
     let mut b = kitchen.model.to_builder();
     b.nav_settings(NavGridSettings {
         min_height: 0.01,

@@ -65,9 +65,10 @@ impl Search<'_> {
     fn reached_goal(&mut self, round: &Round, idx: usize, f: f64) -> Flow {
         let g = round.nodes[idx].g;
         // Proven factor: its cost over the least lower bound still open (the popped item's
-        // own `f` included). A reduced round with travel holds the reordered plans only,
-        // whose costs may differ: its bound is the start's (as for the dive's plan).
-        let exact = !round.reduced || self.settings.cost.travel == 0.0;
+        // own `f` included). A reduced round with travel that has pruned a move holds the
+        // reordered plans only, whose costs may differ: its bound is the start's (as for the
+        // dive's plan).
+        let exact = !round.pruned || self.settings.cost.travel == 0.0;
         let least = if exact {
             round.open.least_f().min(f)
         } else {
@@ -118,6 +119,7 @@ impl Search<'_> {
             let joint = JointId(j);
             if !pushed.as_ref().is_none_or(|p| p[j]) {
                 self.stats.pruned += self.lattice.values(joint).len() - 1;
+                round.pruned = true;
                 continue;
             }
             for to in 0..self.lattice.values(joint).len() as u16 {

@@ -55,6 +55,9 @@ pub(super) struct Round {
     /// Whether this round pushes only the reduced moves (the partial-order reduction; see
     /// [`Search::reduces`]).
     pub(super) reduced: bool,
+    /// Whether the reduction has pruned a move in this round (until then the round is the
+    /// unreduced one).
+    pub(super) pruned: bool,
 }
 
 /// What follows an item of a round.
@@ -139,6 +142,7 @@ impl Search<'_> {
             processed: 0,
             expanded: 0,
             reduced: self.reduces(),
+            pruned: false,
         }
     }
 
