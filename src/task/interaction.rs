@@ -49,10 +49,6 @@ use super::lattice::Lattice;
 use super::settings::TaskSettings;
 use crate::scene::{JointId, SceneData, SceneModel};
 
-/// Combinations of a part's placing joints' lattice values tried when looking for a floor
-/// footprint; a part with more counts as a floor part without looking (conservative).
-const MAX_FLOOR_COMBINATIONS: usize = 256;
-
 /// The interaction relation of a problem's joints and its connected components (see the
 /// module docs of [`crate::task`] and `interaction.rs`).
 #[derive(Debug, Clone)]
@@ -98,7 +94,7 @@ impl Interaction {
     ) -> Result<Self, Error> {
         let model = checker.model;
         let n = model.nq();
-        let floor = checker.floor_joints(data, key, MAX_FLOOR_COMBINATIONS)?;
+        let floor = checker.floor_joints(data, key, false)?;
         let handle: Vec<bool> = model
             .parts()
             .iter()

@@ -15,6 +15,10 @@ pub(crate) struct Occupancy {
     flood: Mutex<Flood>,
 }
 
+/// Combinations of a part's placing joints' lattice values tried when looking for a floor
+/// footprint ([`Checker::floor_joints`]).
+const MAX_FLOOR_COMBINATIONS: usize = 256;
+
 impl Occupancy {
     fn new(blocked: Blocked, start_cell: usize) -> Self {
         Occupancy {
@@ -84,12 +88,13 @@ impl Checker<'_> {
     /// places (is the joint of, or an ancestor of) a part that blocks cells beyond the
     /// inflated base map at some combination of its placing joints' lattice values (the
     /// other joints as in `key`; a part's footprint depends only on those). A part with more
-    /// than `max_combinations` combinations is counted without looking (conservative).
+    /// than [`MAX_FLOOR_COMBINATIONS`] combinations is counted without looking
+    /// (conservative). With `first`, stops after the first part found.
     pub fn floor_joints(
         &self,
         data: &mut SceneData,
         key: &[u16],
-        max_combinations: usize,
+        first: bool,
     ) -> Result<Vec<bool>, Error> {
         let mut floor = vec![false; self.model.nq()];
         for p in self.model.parts() {
@@ -101,7 +106,7 @@ impl Checker<'_> {
             let combinations = sizes
                 .iter()
                 .try_fold(1usize, |n, s| n.checked_mul(*s))
-                .filter(|n| *n <= max_combinations);
+                .filter(|n| *n <= MAX_FLOOR_COMBINATIONS);
             let blocks = match combinations {
                 None => true,
                 Some(n) => {
@@ -124,6 +129,9 @@ impl Checker<'_> {
             if blocks {
                 for j in placing {
                     floor[j.index()] = true;
+                }
+                if first {
+                    break;
                 }
             }
         }

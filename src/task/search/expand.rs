@@ -165,7 +165,7 @@ impl Search<'_> {
         if !round.reduced {
             return None;
         }
-        let interaction = self.interaction.as_ref()?;
+        let interaction = self.interaction()?;
         let c = interaction.reduced_component(self.problem, &state.q)?;
         Some(
             (0..self.model.nq())

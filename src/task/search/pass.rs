@@ -100,7 +100,7 @@ impl Search<'_> {
     fn round(&mut self) -> Result<Option<PlanResult>, Error> {
         self.stats.rounds += 1;
         self.stats.active_joints = self.active.iter().filter(|a| **a).count();
-        let mut round = self.new_round();
+        let mut round = self.new_round()?;
         while let Some(entry) = round.open.pop() {
             match self.popped(&mut round, entry)? {
                 Flow::Continue => {}
@@ -113,8 +113,10 @@ impl Search<'_> {
         self.end_round(round)
     }
 
-    /// A round with only the start state open, below the incumbent's cost.
-    fn new_round(&self) -> Round {
+    /// A round with only the start state open, below the incumbent's cost (reduced or not,
+    /// see [`Search::reduces`]).
+    fn new_round(&mut self) -> Result<Round, Error> {
+        let reduced = self.reduces()?;
         let cap = self.incumbent.as_ref().map_or(f64::INFINITY, |i| i.cost);
         let mut open = Open::new(self.w, cap);
         let seq = 0u64;
@@ -130,7 +132,7 @@ impl Search<'_> {
                 parent: None,
             })),
         });
-        Round {
+        Ok(Round {
             nodes: Vec::new(),
             closed: HashSet::new(),
             open,
@@ -141,18 +143,9 @@ impl Search<'_> {
             deferred: Vec::new(),
             processed: 0,
             expanded: 0,
-            reduced: self.reduces(),
+            reduced,
             pruned: false,
-        }
-    }
-
-    /// Whether a new round uses the partial-order reduction: when it is on, and either moves
-    /// cost the same in any order (`travel = 0`: the reduction keeps an optimal plan's cost,
-    /// see `interaction.rs`) or no plan is known yet (the round only has to find one; its proven
-    /// factor is then taken over the start's lower bound, and the passes that improve on it
-    /// run without the reduction).
-    pub(super) fn reduces(&self) -> bool {
-        self.interaction.is_some() && (self.settings.cost.travel == 0.0 || self.incumbent.is_none())
+        })
     }
 
     /// A popped item: the early growth check (before a state), the stop check, then the
