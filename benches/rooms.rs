@@ -47,7 +47,9 @@
 //! [`QUICK_BUDGET`] (about 2 minutes); `KINSCENE_BENCH_FULL=1`: the whole grid;
 //! `KINSCENE_BENCH_FAMILIES=galley,l,u,corridor`; `KINSCENE_BENCH_CELLS=100x20,300x40`
 //! (parts x targets, any cell); `KINSCENE_BENCH_SEEDS=<n>`; `KINSCENE_BENCH_BUDGET=<seconds>`;
-//! `KINSCENE_BENCH_PLANNERS=search,paper`; `KINSCENE_BENCH_INFEASIBLE=0` skips the infeasible
+//! `KINSCENE_BENCH_PLANNERS=search,paper`; `KINSCENE_BENCH_REDUCTION=0` runs the search
+//! without its partial-order reduction ([`TaskSettings::reduction`]), `KINSCENE_BENCH_DIVE=0`
+//! without its greedy dive (so that its first plan comes from the passes); `KINSCENE_BENCH_INFEASIBLE=0` skips the infeasible
 //! variants; `KINSCENE_BENCH_WITNESS=0` skips the witnesses; `KINSCENE_BENCH_VERBOSE=1` prints
 //! one line per run on stderr (progress lines are always there).
 //!
@@ -60,7 +62,9 @@ mod rooms;
 
 use std::time::{Duration, Instant};
 
-use kinscene::task::{NoRefinement, Outcome, Strategy, TaskSettings, Termination, plan, validate};
+use kinscene::task::{
+    Interaction, NoRefinement, Outcome, Strategy, TaskSettings, Termination, plan, validate,
+};
 use rooms::{Family, Room, RoomParams};
 
 /// Scene sizes.
@@ -209,6 +213,9 @@ impl Planner {
         if self == Planner::Paper {
             s.strategy = Strategy::Paper { seed };
             s.max_samples = paper_samples();
+        } else {
+            s.reduction = env("KINSCENE_BENCH_REDUCTION").is_none_or(|v| v != "0");
+            s.dive = env("KINSCENE_BENCH_DIVE").is_none_or(|v| v != "0");
         }
         s
     }
@@ -286,12 +293,18 @@ fn run(planner: Planner, room: &Room, budget: Duration) -> Run {
                     Verdict::Solved,
                     match planner {
                         Planner::Search => format!(
-                            "cost {:.2}, proven factor {}, passes {}",
+                            "cost {:.2}, proven factor {}, passes {}, dive {}, expanded {}, \
+                             evaluated {}, pruned {}, components {}",
                             p.cost,
                             r.stats
                                 .suboptimality
                                 .map_or("-".into(), |f| format!("{f:.2}")),
-                            r.stats.passes
+                            r.stats.passes,
+                            r.stats.greedy_first_plan,
+                            r.stats.expanded,
+                            r.stats.evaluated,
+                            r.stats.pruned,
+                            components(room)
                         ),
                         Planner::Paper => format!("{} orders", r.stats.samples),
                     },
@@ -317,7 +330,10 @@ fn run(planner: Planner, room: &Room, budget: Duration) -> Run {
             wall,
             steps: 0,
             factor: None,
-            note: why.message,
+            note: format!(
+                "{} (expanded {}, evaluated {}, pruned {})",
+                why.message, r.stats.expanded, r.stats.evaluated, r.stats.pruned
+            ),
         },
         Outcome::Timeout(partial) | Outcome::Cancelled(partial) => Run {
             verdict: Verdict::Timeout,
@@ -326,15 +342,22 @@ fn run(planner: Planner, room: &Room, budget: Duration) -> Run {
             steps: partial.plan.steps.len(),
             factor: None,
             note: format!(
-                "{} of {} targets unmet; expanded {}, evaluated {}, orders {}",
+                "{} of {} targets unmet; expanded {}, evaluated {}, pruned {}, orders {}",
                 partial.unmet.len(),
                 room.params.targets,
                 r.stats.expanded,
                 r.stats.evaluated,
+                r.stats.pruned,
                 r.stats.samples
             ),
         },
     }
+}
+
+/// The number of components of the instance's interaction relation (untimed; `?` on error).
+fn components(room: &Room) -> String {
+    Interaction::new(&room.model, &room.problem, &TaskSettings::default())
+        .map_or("?".into(), |i| i.components().to_string())
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -118,6 +118,17 @@
 //! machine-checked (`proofs/theories/Task/Conflict.v`); the first is argued here and taken as
 //! a premise by the proofs.
 //!
+//! **Partial-order reduction.** With [`TaskSettings::reduction`] (default on; only for a
+//! [`Refiner::local`] refiner), a state whose goal is unmet pushes only the moves of the joints
+//! in the [`Interaction`] component of one unmet goal joint: moves of joints that do not
+//! interact commute, so any plan can be reordered to start with such a move
+//! (`proofs/theories/Task/Reduction.v`: sound, and complete over all joints). Since the
+//! base-pose check reads the start's free component, every joint whose parts can block floor
+//! cells interacts with every joint that has a handle: rooms whose doors and drawers open
+//! into the navigation band form one component and nothing is pruned; the reduction acts
+//! between parts above the band and between joints whose sweeps are apart. With travel it
+//! is used only until the first plan (the order changes travel costs).
+//!
 //! **Memo and parallelism.** Sweep verdicts are memoised by (joint, from, to, the values of
 //! the joints that can influence that sweep — found with conservative reach spheres); the
 //! sweeps of the next few open moves are checked in parallel (rayon) before they are needed.
@@ -138,6 +149,7 @@ mod error;
 mod goal;
 mod greedy;
 mod heuristic;
+mod interaction;
 mod lattice;
 mod plan;
 mod reach;
@@ -153,6 +165,7 @@ pub use goal::{
     DEFAULT_ROBOT_RADIUS, DEFAULT_TOLERANCE, Goal, GoalSpec, Interval, Problem, Robot, RobotSpec,
     TargetSpec, TargetTable,
 };
+pub use interaction::Interaction;
 pub use lattice::Lattice;
 pub use plan::{
     BodyName, Cause, Failure, Infeasibility, Outcome, Partial, Plan, PlanFile, PlanResult,

@@ -367,6 +367,11 @@ pub struct SearchStats {
     /// their targets, nearest handle first) rather than from the lattice search.
     #[serde(default)]
     pub greedy_first_plan: bool,
+    /// Moves the partial-order reduction did not push
+    /// ([`TaskSettings::reduction`](super::TaskSettings::reduction)): per expanded state, the
+    /// lattice moves of active joints outside the reduced set.
+    #[serde(default)]
+    pub pruned: usize,
     /// For a plan the search returns: a proven factor `≥ 1` with cost ≤ factor × the least
     /// cost of any plan over the joints active at the end (1: minimal; see the [module
     /// docs](super#anytime)). `None` for other outcomes and for the baselines.

@@ -54,6 +54,15 @@ pub enum Refinement {
 pub trait Refiner: Sync {
     /// Accepts or vetoes `action`.
     fn refine(&self, action: &MoveContext<'_>) -> Refinement;
+
+    /// Whether the verdict on a move of joint `j` depends only on the values of `j` and of
+    /// the joints that [interact](super::Interaction::interacts) with it (not on the rest of
+    /// the state, nor on the base pose proposed or where the robot comes from). The search's
+    /// partial-order reduction ([`TaskSettings::reduction`](super::TaskSettings::reduction))
+    /// is sound only then, and is used only for refiners that say so. Default `false`.
+    fn local(&self) -> bool {
+        false
+    }
 }
 
 /// Accepts every move.
@@ -63,6 +72,10 @@ pub struct NoRefinement;
 impl Refiner for NoRefinement {
     fn refine(&self, _: &MoveContext<'_>) -> Refinement {
         Refinement::Accept
+    }
+
+    fn local(&self) -> bool {
+        true
     }
 }
 

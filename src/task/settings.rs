@@ -315,6 +315,20 @@ pub struct TaskSettings {
     /// (the lattice search still proves infeasibility and minimality).
     #[serde(default = "default_dive")]
     pub dive: bool,
+    /// Whether the search prunes interchangeable move orders (default true): in a state whose
+    /// goal is unmet it pushes only the moves of the joints that interact (through sweeps,
+    /// regions, footprints; see [`Interaction`](super::Interaction)) with one unmet goal
+    /// joint, the one whose set of interacting joints is smallest. Sound and complete (every
+    /// plan is made of moves the unreduced search accepts; a goal reachable without the
+    /// reduction is reachable with it: `proofs/theories/Task/Reduction.v`), for refiners that
+    /// are [`Refiner::local`](super::Refiner::local); otherwise it is off. It reorders plans
+    /// without changing their moves, which keeps costs only when they do not depend on where
+    /// the robot stands: with `cost.travel > 0` it is used only until the first plan (whose
+    /// proven factor is then its cost over the start's lower bound), and the passes that
+    /// improve on a plan run without it. [`SearchStats::pruned`](super::SearchStats::pruned)
+    /// counts the moves it did not push.
+    #[serde(default = "default_reduction")]
+    pub reduction: bool,
 }
 
 fn default_first_pass_weight() -> f64 {
@@ -322,6 +336,10 @@ fn default_first_pass_weight() -> f64 {
 }
 
 fn default_dive() -> bool {
+    true
+}
+
+fn default_reduction() -> bool {
     true
 }
 
@@ -338,6 +356,7 @@ impl Default for TaskSettings {
             heuristic_weight: 1.0,
             first_pass_weight: default_first_pass_weight(),
             dive: default_dive(),
+            reduction: default_reduction(),
         }
     }
 }

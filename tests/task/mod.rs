@@ -6,6 +6,7 @@ mod basic;
 mod brute_force;
 mod cases;
 pub mod generators;
+mod reduction;
 mod refiner;
 pub mod rooms;
 mod validate;

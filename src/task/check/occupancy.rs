@@ -15,6 +15,10 @@ pub(crate) struct Occupancy {
     flood: Mutex<Flood>,
 }
 
+/// Combinations of a part's placing joints' lattice values tried when looking for a floor
+/// footprint ([`Checker::floor_joints`]).
+const MAX_FLOOR_COMBINATIONS: usize = 256;
+
 impl Occupancy {
     fn new(blocked: Blocked, start_cell: usize) -> Self {
         Occupancy {
@@ -78,6 +82,60 @@ impl Checker<'_> {
             .filter(|&c| !base[c])
             .map(|c| c as u32)
             .collect())
+    }
+
+    /// The joints whose values can change the occupancy of a lattice state: every joint that
+    /// places (is the joint of, or an ancestor of) a part that blocks cells beyond the
+    /// inflated base map at some combination of its placing joints' lattice values (the
+    /// other joints as in `key`; a part's footprint depends only on those). A part with more
+    /// than [`MAX_FLOOR_COMBINATIONS`] combinations is counted without looking
+    /// (conservative). With `first`, stops after the first part found.
+    pub fn floor_joints(
+        &self,
+        data: &mut SceneData,
+        key: &[u16],
+        first: bool,
+    ) -> Result<Vec<bool>, Error> {
+        let mut floor = vec![false; self.model.nq()];
+        for p in self.model.parts() {
+            let placing = &self.pose_context[p.id().index()];
+            let sizes: Vec<usize> = placing
+                .iter()
+                .map(|j| self.lattice.values(*j).len())
+                .collect();
+            let combinations = sizes
+                .iter()
+                .try_fold(1usize, |n, s| n.checked_mul(*s))
+                .filter(|n| *n <= MAX_FLOOR_COMBINATIONS);
+            let blocks = match combinations {
+                None => true,
+                Some(n) => {
+                    let mut any = false;
+                    let mut at = key.to_vec();
+                    for mut c in 0..n {
+                        for (j, s) in placing.iter().zip(&sizes) {
+                            at[j.index()] = (c % s) as u16;
+                            c /= s;
+                        }
+                        forward_kinematics(self.model, data, &self.state_of(&at))?;
+                        if !self.part_blocks(data, p.id())?.is_empty() {
+                            any = true;
+                            break;
+                        }
+                    }
+                    any
+                }
+            };
+            if blocks {
+                for j in placing {
+                    floor[j.index()] = true;
+                }
+                if first {
+                    break;
+                }
+            }
+        }
+        Ok(floor)
     }
 
     /// Occupancy of a lattice state from the per-part footprints cached by pose (equal to

@@ -8,6 +8,12 @@ use crate::scene::{JointId, SceneData};
 use crate::task::plan::{BodyName, Cause};
 
 impl Checker<'_> {
+    /// The joints whose values can change the sweep check of `joint` (its ancestors, its
+    /// subtree and the parts whose reach spheres come near, with their ancestors; sorted).
+    pub fn sweep_context(&self, joint: JointId) -> &[JointId] {
+        &self.contexts[joint.index()]
+    }
+
     /// The memo key of the sweep of `joint` from its value in `key` to value index `to`.
     pub fn sweep_key(&self, key: &[u16], joint: JointId, to: u16) -> SweepKey {
         (

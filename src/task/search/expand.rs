@@ -65,16 +65,24 @@ impl Search<'_> {
     fn reached_goal(&mut self, round: &Round, idx: usize, f: f64) -> Flow {
         let g = round.nodes[idx].g;
         // Proven factor: its cost over the least lower bound still open (the popped item's
-        // own `f` included).
-        let least = round.open.least_f().min(f);
+        // own `f` included). A reduced round with travel that has pruned a move holds the
+        // reordered plans only, whose costs may differ: its bound is the start's (as for the
+        // dive's plan).
+        let exact = !round.pruned || self.settings.cost.travel == 0.0;
+        let least = if exact {
+            round.open.least_f().min(f)
+        } else {
+            self.h(&self.start_key, self.checker.start_cell)
+        };
         let factor = if g <= least { 1.0 } else { g / least };
         let steps = path_to(&round.nodes, idx);
         self.stats.first_plan.get_or_insert(self.started.elapsed());
-        if factor <= self.final_w + 1e-9 || self.w <= self.final_w {
+        let focal = if exact { self.w } else { f64::INFINITY };
+        if factor <= self.final_w + 1e-9 || focal <= self.final_w {
             // Within the final weight, or a final-pass plan (cheaper than any incumbent by
             // the cap, and within `final_w` by the focal rule).
             self.finish();
-            self.stats.suboptimality = Some(factor.min(self.w));
+            self.stats.suboptimality = Some(factor.min(focal));
             return Flow::Done(Box::new(PlanResult {
                 outcome: Outcome::Solved(Plan { steps, cost: g }),
                 stats: std::mem::take(&mut self.stats),
@@ -83,7 +91,7 @@ impl Search<'_> {
         self.incumbent = Some(Incumbent {
             steps,
             cost: g,
-            factor: factor.min(self.w),
+            factor: factor.min(focal),
         });
         self.start_final_pass();
         Flow::NextPass
@@ -103,11 +111,17 @@ impl Search<'_> {
         let approach =
             self.heuristic
                 .approach(self.model, &mut self.data, state, &self.active, robot)?;
+        let pushed = self.reduced_joints(round, state);
         for (j, is_active) in self.active.iter().enumerate() {
             if !is_active {
                 continue;
             }
             let joint = JointId(j);
+            if !pushed.as_ref().is_none_or(|p| p[j]) {
+                self.stats.pruned += self.lattice.values(joint).len() - 1;
+                round.pruned = true;
+                continue;
+            }
             for to in 0..self.lattice.values(joint).len() as u16 {
                 if to == key[j] {
                     continue;
@@ -142,6 +156,22 @@ impl Search<'_> {
             }
         }
         Ok(())
+    }
+
+    /// The joints whose moves a state with joint values `state` pushes in a reduced round:
+    /// the component of [`Interaction::reduced_component`](crate::task::Interaction); `None`
+    /// (all) outside reduced rounds.
+    fn reduced_joints(&self, round: &Round, state: &State) -> Option<Vec<bool>> {
+        if !round.reduced {
+            return None;
+        }
+        let interaction = self.interaction()?;
+        let c = interaction.reduced_component(self.problem, &state.q)?;
+        Some(
+            (0..self.model.nq())
+                .map(|j| interaction.component(JointId(j)) == c)
+                .collect(),
+        )
     }
 
     /// Move `mv`, popped with priority `f`, `g` and `unmet` targets: skipped if its state is

@@ -23,6 +23,7 @@ use super::conflict::static_conflict;
 use super::goal::Problem;
 use super::greedy;
 use super::heuristic::Heuristic;
+use super::interaction::Interaction;
 use super::lattice::Lattice;
 use super::plan::{Cause, Infeasibility, Outcome, PlanResult, SearchStats, Step};
 use super::refine::Refiner;
@@ -62,6 +63,19 @@ struct Search<'a> {
     best_partial: Option<Best>,
     /// Sweeps checked in parallel.
     threads: usize,
+    /// The partial-order reduction: `Off`, not yet needed, or its interaction relation.
+    reduction: Reduction,
+}
+
+/// The search's partial-order reduction ([`TaskSettings::reduction`]).
+enum Reduction {
+    /// Off (by the settings or the refiner), or useless: some part blocks floor cells, so
+    /// every joint with a handle is in one component (`interaction.rs`).
+    Off,
+    /// On, its relation not computed yet (the first reduced round computes it).
+    Pending,
+    /// On, with the relation.
+    On(Interaction),
 }
 
 /// Plans with the lattice search: the static proofs of infeasibility, the greedy dive, then
@@ -99,6 +113,11 @@ pub(crate) fn run(
         active: goal_joints(model, problem),
         best_partial: None,
         threads: threads(settings),
+        reduction: if settings.reduction && refiner.local() {
+            Reduction::Pending
+        } else {
+            Reduction::Off
+        },
     };
     if let Some(why) = search.static_infeasibility()? {
         search.stats.elapsed = started.elapsed();
@@ -159,6 +178,42 @@ impl Search<'_> {
     /// The lower bound on the cost still to pay from state `key` with the robot at `cell`.
     fn h(&self, key: &[u16], cell: usize) -> f64 {
         self.heuristic.work(key) + self.heuristic.travel_of(key).at(cell)
+    }
+
+    /// Whether a new round uses the partial-order reduction: when it is on, and either moves
+    /// cost the same in any order (`travel = 0`: the reduction keeps an optimal plan's cost,
+    /// see `interaction.rs`) or no plan is known yet (the round only has to find one; if it
+    /// prunes, its plan's proven factor is taken over the start's lower bound, and the passes
+    /// that improve on it run without the reduction). Computes the relation on first use:
+    /// `Off` if a part blocks floor cells at some lattice value (then the reduction could
+    /// prune only moves of joints without a handle, which are infeasible anyway).
+    fn reduces(&mut self) -> Result<bool, Error> {
+        if !(self.settings.cost.travel == 0.0 || self.incumbent.is_none()) {
+            return Ok(false);
+        }
+        if let Reduction::Pending = self.reduction {
+            let floor = self
+                .checker
+                .floor_joints(&mut self.data, &self.start_key, true)?;
+            self.reduction = if floor.iter().any(|f| *f) {
+                Reduction::Off
+            } else {
+                Reduction::On(Interaction::of(
+                    self.checker,
+                    &mut self.data,
+                    &self.start_key,
+                )?)
+            };
+        }
+        Ok(matches!(self.reduction, Reduction::On(_)))
+    }
+
+    /// The interaction relation, when the reduction is on and computed.
+    pub(super) fn interaction(&self) -> Option<&Interaction> {
+        match &self.reduction {
+            Reduction::On(i) => Some(i),
+            _ => None,
+        }
     }
 
     /// Records the search's time and refiner vetoes in its statistics.

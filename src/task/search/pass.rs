@@ -52,6 +52,12 @@ pub(super) struct Round {
     processed: usize,
     /// Expansions this round.
     expanded: usize,
+    /// Whether this round pushes only the reduced moves (the partial-order reduction; see
+    /// [`Search::reduces`]).
+    pub(super) reduced: bool,
+    /// Whether the reduction has pruned a move in this round (until then the round is the
+    /// unreduced one).
+    pub(super) pruned: bool,
 }
 
 /// What follows an item of a round.
@@ -94,7 +100,7 @@ impl Search<'_> {
     fn round(&mut self) -> Result<Option<PlanResult>, Error> {
         self.stats.rounds += 1;
         self.stats.active_joints = self.active.iter().filter(|a| **a).count();
-        let mut round = self.new_round();
+        let mut round = self.new_round()?;
         while let Some(entry) = round.open.pop() {
             match self.popped(&mut round, entry)? {
                 Flow::Continue => {}
@@ -107,8 +113,10 @@ impl Search<'_> {
         self.end_round(round)
     }
 
-    /// A round with only the start state open, below the incumbent's cost.
-    fn new_round(&self) -> Round {
+    /// A round with only the start state open, below the incumbent's cost (reduced or not,
+    /// see [`Search::reduces`]).
+    fn new_round(&mut self) -> Result<Round, Error> {
+        let reduced = self.reduces()?;
         let cap = self.incumbent.as_ref().map_or(f64::INFINITY, |i| i.cost);
         let mut open = Open::new(self.w, cap);
         let seq = 0u64;
@@ -124,7 +132,7 @@ impl Search<'_> {
                 parent: None,
             })),
         });
-        Round {
+        Ok(Round {
             nodes: Vec::new(),
             closed: HashSet::new(),
             open,
@@ -135,7 +143,9 @@ impl Search<'_> {
             deferred: Vec::new(),
             processed: 0,
             expanded: 0,
-        }
+            reduced,
+            pruned: false,
+        })
     }
 
     /// A popped item: the early growth check (before a state), the stop check, then the
