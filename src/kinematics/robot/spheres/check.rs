@@ -5,6 +5,7 @@ use nalgebra::Isometry3;
 use wide::f32x8;
 
 use super::RobotSpheres;
+use crate::kinematics::robot::RobotCollision;
 
 /// Slack (m) added to every sum of radii compared in `f32`: it covers the rounding of world
 /// coordinates to `f32` (relative 6e-8, so under 1e-6 m within 10 m of the origin) and of the
@@ -90,28 +91,52 @@ impl RobotSpheres {
     /// the sum of their radii plus [`SPHERE_SLACK`], or `None`. `None` means the exact
     /// geometry is free of self-collision too (the spheres cover it).
     pub fn self_collision(&self, data: &SphereData) -> Option<(usize, usize)> {
+        self.checked
+            .iter()
+            .copied()
+            .find(|&(i, j)| self.pair_meets(data, i, j))
+    }
+
+    /// Exact self-collision with the spheres as the broad phase: the first checked pair whose
+    /// spheres meet ([`RobotSpheres::pair_meets`]) and whose exact shapes touch
+    /// ([`RobotCollision::pair_touches`]). The same answer as
+    /// [`RobotCollision::self_collision`] when `self` was built from `collision` and `data`
+    /// holds the spheres placed at `link_poses` (pairs the spheres clear cannot touch).
+    pub fn self_collision_exact(
+        &self,
+        data: &SphereData,
+        collision: &RobotCollision,
+        link_poses: &[Isometry3<f64>],
+    ) -> Option<(usize, usize)> {
+        self.checked
+            .iter()
+            .copied()
+            .find(|&(i, j)| self.pair_meets(data, i, j) && collision.pair_touches(link_poses, i, j))
+    }
+
+    /// Whether a sphere of link `i` and a sphere of link `j` in `data` are within the sum of
+    /// their radii plus [`SPHERE_SLACK`] (`false` if either link has no spheres placed).
+    pub fn pair_meets(&self, data: &SphereData, i: usize, j: usize) -> bool {
+        let (Some(&(si, ni)), Some(&(sj, nj))) = (data.links.get(i), data.links.get(j)) else {
+            return false;
+        };
         let slack = f32x8::splat(SPHERE_SLACK);
-        for &(i, j) in &self.checked {
-            let (Some(&(si, ni)), Some(&(sj, nj))) = (data.links.get(i), data.links.get(j)) else {
-                continue;
-            };
-            for a in si..si + ni {
-                let (ax, ay, az) = (
-                    f32x8::splat(data.x[a]),
-                    f32x8::splat(data.y[a]),
-                    f32x8::splat(data.z[a]),
-                );
-                let ar = f32x8::splat(data.r[a]) + slack;
-                for start in (sj..sj + nj).step_by(LANES) {
-                    let [bx, by, bz, br] = data.block(start);
-                    let (dx, dy, dz) = (bx - ax, by - ay, bz - az);
-                    let reach = br + ar;
-                    if (dx * dx + dy * dy + dz * dz).simd_le(reach * reach).any() {
-                        return Some((i, j));
-                    }
+        for a in si..si + ni {
+            let (ax, ay, az) = (
+                f32x8::splat(data.x[a]),
+                f32x8::splat(data.y[a]),
+                f32x8::splat(data.z[a]),
+            );
+            let ar = f32x8::splat(data.r[a]) + slack;
+            for start in (sj..sj + nj).step_by(LANES) {
+                let [bx, by, bz, br] = data.block(start);
+                let (dx, dy, dz) = (bx - ax, by - ay, bz - az);
+                let reach = br + ar;
+                if (dx * dx + dy * dy + dz * dz).simd_le(reach * reach).any() {
+                    return true;
                 }
             }
         }
-        None
+        false
     }
 }

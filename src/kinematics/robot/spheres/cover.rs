@@ -15,15 +15,17 @@
 //! - **Convex hull:** the same grid over the hull's bounding box in its principal axes (the
 //!   vertices' covariance eigenvectors), keeping only the cells that parry finds intersecting
 //!   the hull (cells grown by [`CELL_SLACK`], so a touching cell is kept); finer grids are tried
-//!   while the kept cells fit the budget. A kept cell's sphere has radius
-//!   `min(half-diagonal, max distance from its centre to a hull vertex)`: the farthest point
-//!   of a convex set from a point is one of its extreme points, all of them hull vertices.
+//!   while the kept cells fit the budget. A kept cell's sphere encloses the candidate
+//!   vertices of the polytope `cell ∩ hull` (see the `clip` module): a ball is convex, so it
+//!   then encloses their convex hull, which is `cell ∩ hull`. If no candidate is found (round-
+//!   off at a touching cell), the cell's circumscribed sphere.
 
 use nalgebra::{Isometry3, Matrix3, Point3, Rotation3, SymmetricEigen, UnitQuaternion, Vector3};
 use parry3d_f64::query::intersection_test;
 use parry3d_f64::shape::Cuboid;
 
 use super::Sphere;
+use super::clip::Polytope;
 use crate::scene::Shape;
 use crate::scene::collision::convert;
 use crate::scene::collision::parry_shape;
@@ -47,20 +49,16 @@ pub(super) fn cover(shape: &Shape, budget: usize) -> Result<Vec<Sphere>, String>
         Shape::Cylinder { radius, length } => {
             let slices = cylinder_slices(*radius, *length, budget);
             let half = Vector3::new(*radius, *radius, length / 2.0);
-            let grid = grid_cover(&Isometry3::identity(), &half, budget, &|_, _| true, &[]);
+            let grid = grid_cover(&Isometry3::identity(), &half, budget, &whole_cell);
             if total_volume(&grid) < total_volume(&slices) {
                 grid
             } else {
                 slices
             }
         }
-        Shape::Cuboid { half_extents } => grid_cover(
-            &Isometry3::identity(),
-            half_extents,
-            budget,
-            &|_, _| true,
-            &[],
-        ),
+        Shape::Cuboid { half_extents } => {
+            grid_cover(&Isometry3::identity(), half_extents, budget, &whole_cell)
+        }
         Shape::ConvexMesh { vertices, .. } => hull(shape, vertices, budget)?,
     })
 }
@@ -110,14 +108,13 @@ fn grid_dims(half: &Vector3<f64>, budget: usize) -> [usize; 3] {
 }
 
 /// The grid cover of the box `shape_from_box` with half extents `half` by at most `budget`
-/// cells; `keep(cell_pose, cell_half)` decides which cells stay; a kept cell's radius is
-/// capped by its distance to the farthest of `vertices` (when any are given).
+/// cells; `fit(cell_pose, cell_half)` gives the sphere covering the shape's part in a cell,
+/// or `None` when the cell misses the shape.
 fn grid_cover(
     shape_from_box: &Isometry3<f64>,
     half: &Vector3<f64>,
     budget: usize,
-    keep: &dyn Fn(&Isometry3<f64>, &Vector3<f64>) -> bool,
-    vertices: &[Point3<f64>],
+    fit: &dyn Fn(&Isometry3<f64>, &Vector3<f64>) -> Option<Sphere>,
 ) -> Vec<Sphere> {
     let n = grid_dims(half, budget);
     let cell_half = Vector3::new(
@@ -125,7 +122,6 @@ fn grid_cover(
         half.y / n[1] as f64,
         half.z / n[2] as f64,
     );
-    let diagonal = cell_half.norm();
     let mut spheres = Vec::new();
     for i in 0..n[0] {
         for j in 0..n[1] {
@@ -136,36 +132,45 @@ fn grid_cover(
                     -half.z + (2 * k + 1) as f64 * cell_half.z,
                 );
                 let cell = shape_from_box * nalgebra::Translation3::from(local);
-                if !keep(&cell, &cell_half) {
-                    continue;
-                }
-                let center = Point3::from(cell.translation.vector);
-                let farthest = vertices
-                    .iter()
-                    .map(|v| (v - center).norm())
-                    .reduce(f64::max)
-                    .unwrap_or(f64::INFINITY);
-                spheres.push(Sphere::new(center, diagonal.min(farthest)));
+                spheres.extend(fit(&cell, &cell_half));
             }
         }
     }
     spheres
 }
 
+/// The sphere circumscribing a whole cell: its centre, its half-diagonal.
+fn whole_cell(cell: &Isometry3<f64>, half: &Vector3<f64>) -> Option<Sphere> {
+    Some(Sphere::new(
+        Point3::from(cell.translation.vector),
+        half.norm(),
+    ))
+}
+
 /// The grid cover of a convex hull in its principal axes, refined while it fits `budget`.
 fn hull(shape: &Shape, vertices: &[Point3<f64>], budget: usize) -> Result<Vec<Sphere>, String> {
     let (compiled, shape_from_parry) = parry_shape(shape).map_err(|e| e.to_string())?;
     let hull_pose = convert::pose(&shape_from_parry);
-    let keep = |cell: &Isometry3<f64>, half: &Vector3<f64>| {
+    let polytope = compiled
+        .as_convex_polyhedron()
+        .map(|p| Polytope::new(p, &shape_from_parry));
+    let fit = |cell: &Isometry3<f64>, half: &Vector3<f64>| {
         let cuboid = Cuboid::new(convert::vector(&half.add_scalar(CELL_SLACK)));
-        intersection_test(&convert::pose(cell), &cuboid, &hull_pose, &*compiled)
+        let meets = intersection_test(&convert::pose(cell), &cuboid, &hull_pose, &*compiled)
             .map(|i| i.intersecting)
-            .unwrap_or(true)
+            .unwrap_or(true);
+        if !meets {
+            return None;
+        }
+        polytope
+            .as_ref()
+            .and_then(|p| p.sphere_in_cell(cell, half))
+            .or_else(|| whole_cell(cell, half))
     };
     let (shape_from_box, half) = principal_box(vertices);
-    let mut best = grid_cover(&shape_from_box, &half, budget, &keep, vertices);
+    let mut best = grid_cover(&shape_from_box, &half, budget, &fit);
     for factor in &HULL_REFINEMENTS[1..] {
-        let finer = grid_cover(&shape_from_box, &half, budget * factor, &keep, vertices);
+        let finer = grid_cover(&shape_from_box, &half, budget * factor, &fit);
         if finer.len() > budget {
             break;
         }

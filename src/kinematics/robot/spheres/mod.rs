@@ -39,6 +39,7 @@
 //! ```
 
 mod check;
+mod clip;
 mod cover;
 mod obstacles;
 

@@ -154,7 +154,10 @@ fn hits(b: &Block, p: &[f32x8; 3], r: f32x8) -> bool {
 /// Packs up to 8 obstacles into a block; missing lanes are far away with reach 0.
 fn pack(obstacles: &[Rounded]) -> Block {
     let mut center = [[FAR; LANES]; 3];
-    let mut axes = [[[0.0f32; LANES]; 3]; 3];
+    // Padding lanes keep the identity axes, so that their distance is the (huge) distance to
+    // `FAR`: zero axes would put every point at distance 0.
+    let mut axes: [[[f32; LANES]; 3]; 3] =
+        std::array::from_fn(|k| std::array::from_fn(|c| [f32::from(u8::from(k == c)); LANES]));
     let mut half = [[0.0f32; LANES]; 3];
     let mut reach = [0.0f32; LANES];
     for (lane, (world_from_box, h, rounding)) in obstacles.iter().enumerate() {
