@@ -89,6 +89,9 @@ fn total_volume(spheres: &[Sphere]) -> f64 {
     spheres.iter().map(|s| s.radius.powi(3)).sum()
 }
 
+/// The sphere covering the shape's part in a cell (pose, half extents), `None` if it misses.
+type CellFit<'a> = dyn Fn(&Isometry3<f64>, &Vector3<f64>) -> Option<Sphere> + 'a;
+
 /// The cell counts `(nx, ny, nz)`, product at most `budget`, that minimise the half-diagonal
 /// of a cell of the box with half extents `half`.
 fn grid_dims(half: &Vector3<f64>, budget: usize) -> [usize; 3] {
@@ -114,7 +117,7 @@ fn grid_cover(
     shape_from_box: &Isometry3<f64>,
     half: &Vector3<f64>,
     budget: usize,
-    fit: &dyn Fn(&Isometry3<f64>, &Vector3<f64>) -> Option<Sphere>,
+    fit: &CellFit<'_>,
 ) -> Vec<Sphere> {
     let n = grid_dims(half, budget);
     let cell_half = Vector3::new(

@@ -96,13 +96,17 @@ impl SphereSettings {
     /// Checks the padding (finite, `>= 0`) and the budget (`>= 1`).
     ///
     /// # Errors
-    /// [`RobotError::InvalidSetting`] naming the field.
-    pub fn validate(&self) -> Result<(), RobotError> {
+    /// [`InvalidSetting`] naming the field.
+    pub fn validate(&self) -> Result<(), InvalidSetting> {
         if !(self.padding.is_finite() && self.padding >= 0.0) {
-            return Err(InvalidSetting::new("padding", self.padding, "finite and >= 0").into());
+            return Err(InvalidSetting::new(
+                "padding",
+                self.padding,
+                "finite and >= 0",
+            ));
         }
         if self.max_per_link == 0 {
-            return Err(InvalidSetting::new("max_per_link", 0.0, "at least 1").into());
+            return Err(InvalidSetting::new("max_per_link", 0.0, "at least 1"));
         }
         Ok(())
     }
@@ -238,10 +242,7 @@ mod tests {
                 padding,
                 max_per_link: max,
             };
-            assert!(matches!(
-                settings.validate(),
-                Err(RobotError::InvalidSetting(_))
-            ));
+            assert!(settings.validate().is_err());
         }
     }
 }

@@ -94,7 +94,7 @@ impl SphereObstacles {
             let (base, contact) = (kind & 1 != 0, kind & 2 != 0);
             let kept: Vec<Rounded> = all
                 .iter()
-                .filter(|(_, floor, grasp)| !(base && *floor) && !(contact && *grasp))
+                .filter(|(_, floor, grasp)| !(base && *floor || contact && *grasp))
                 .map(|(o, _, _)| *o)
                 .collect();
             kept.chunks(LANES).map(pack).collect()
