@@ -188,6 +188,9 @@ fn scene(problem: &Problem) -> (SceneModel, SceneData) {
     (model, data)
 }
 
+/// A validity closure as `plan_arm` takes it.
+type Checker<'a> = dyn Fn(&[f64]) -> bool + Sync + 'a;
+
 struct Stats {
     times: Vec<Duration>,
     solved: usize,
@@ -271,7 +274,7 @@ fn main() {
                         .scene_collision(&p, &model, &data, Exempt::Nothing, 0.0)
                         .is_none())
         };
-        let checkers: [&(dyn Fn(&[f64]) -> bool + Sync); 2] = [&exact, &fast];
+        let checkers: [&Checker<'_>; 2] = [&exact, &fast];
         if !warmed {
             // The first call loads the OMPL shim: not charged to any problem.
             let _ = plan_arm(
