@@ -85,7 +85,7 @@ use std::time::Instant;
 use nalgebra::DVector;
 
 use crate::kinematics::ik::{IkError, IkSolver};
-use crate::kinematics::robot::{RobotCollision, RobotConfig, RobotError, RobotModel};
+use crate::kinematics::robot::{RobotCollision, RobotConfig, RobotError, RobotModel, RobotSpheres};
 use crate::motion::paths::PathError;
 use crate::motion::placement::{PlacementData, PlacementError};
 use crate::motion::timing::TimingError;
@@ -143,6 +143,8 @@ pub enum PlannerError {
 pub struct HierarchicalPlanner {
     robot: RobotModel,
     collision: RobotCollision,
+    /// The sphere model of the arm checks' fast path (`settings.arm_spheres`).
+    spheres: Option<RobotSpheres>,
     ik: IkSolver,
     settings: PlannerSettings,
     /// The compiled placement NLP, reused between steps and calls.
@@ -179,9 +181,14 @@ impl HierarchicalPlanner {
             settings.placement.stow = Some(settings.stow.clone().unwrap_or(robot.neutral()));
         }
         let ik = IkSolver::new(robot.pinocchio(), robot.tool_frame(), settings.ik.clone())?;
+        let spheres = match &settings.arm_spheres {
+            Some(s) => Some(RobotSpheres::new(&robot, &collision, s)?),
+            None => None,
+        };
         Ok(HierarchicalPlanner {
             robot,
             collision,
+            spheres,
             ik,
             settings,
             placement: Mutex::new(PlacementData::new()),
@@ -368,6 +375,7 @@ impl HierarchicalPlanner {
             let ctx = step::StepContext {
                 robot: &self.robot,
                 collision: &self.collision,
+                spheres: self.spheres.as_ref(),
                 ik: &self.ik,
                 settings: &self.settings,
                 model,

@@ -7,7 +7,7 @@ use nalgebra::DVector;
 use super::PlannerError;
 use crate::InvalidSetting;
 use crate::kinematics::ik::IkSettings;
-use crate::kinematics::robot::RobotModel;
+use crate::kinematics::robot::{RobotModel, SphereSettings};
 use crate::motion::paths::PathSettings;
 use crate::motion::placement::PlacementSettings;
 use crate::motion::timing::BlendSettings;
@@ -70,6 +70,17 @@ pub struct PlannerSettings {
     /// [`StepMotion`](super::StepMotion)). 1 keeps every step to one base pose (the paper's
     /// manipulation planner, which fails the step instead). Default 4.
     pub max_segments: usize,
+    /// The sphere fast path of the arm's validity check during arm path searches: the robot
+    /// covered by spheres ([`RobotSpheres`], built once per planner with these settings) and
+    /// the scene as rounded boxes ([`SphereObstacles`], built once per scene state). A state
+    /// whose spheres clear the scene skips the exact scene check; self-collision runs the
+    /// exact test only on the link pairs whose spheres meet. Answers stay exact (the spheres
+    /// are conservative); only the time changes. `None`: every state is checked exactly with
+    /// parry. Default `Some(SphereSettings::default())`.
+    ///
+    /// [`RobotSpheres`]: crate::kinematics::robot::RobotSpheres
+    /// [`SphereObstacles`]: crate::kinematics::robot::SphereObstacles
+    pub arm_spheres: Option<SphereSettings>,
 }
 
 impl Default for PlannerSettings {
@@ -93,6 +104,7 @@ impl Default for PlannerSettings {
             blend: Some(BlendSettings::default()),
             manipulation_blend: 0.002,
             max_segments: 4,
+            arm_spheres: Some(SphereSettings::default()),
         }
     }
 }
@@ -131,6 +143,12 @@ impl PlannerSettings {
         positive("manipulation_blend", self.manipulation_blend)?;
         if let Some(blend) = &self.blend {
             blend.validate()?;
+        }
+        if let Some(spheres) = &self.arm_spheres {
+            spheres.validate().map_err(|e| InvalidSetting {
+                field: format!("arm_spheres.{}", e.field),
+                ..e
+            })?;
         }
         if self.max_segments == 0 {
             return Err(InvalidSetting::new("max_segments", 0.0, ">= 1").into());

@@ -5,4 +5,5 @@ mod description;
 mod ik;
 mod ik_fast;
 mod robot;
+mod spheres;
 pub(crate) mod third_party;

@@ -10,7 +10,9 @@ mod segments;
 use std::time::Duration;
 
 use kinscene::kinematics::pinocchio::{Data, forward_kinematics, frame_placement};
-use kinscene::kinematics::robot::{Exempt, RobotCollision, RobotConfig, RobotModel};
+use kinscene::kinematics::robot::{
+    Exempt, RobotCollision, RobotConfig, RobotModel, SphereSettings,
+};
 use kinscene::planner::{
     Check, Contact, HierarchicalPlanner, MotionDocument, MotionInfeasibility, MotionOutcome,
     PlannerError, PlannerSettings, RefineOutcome, StepPath, StepReason,
@@ -249,6 +251,18 @@ fn bad_settings_are_rejected() {
         ..PlannerSettings::default()
     };
     assert!(HierarchicalPlanner::new(RobotModel::kinova_gen3_mobile(), settings).is_err());
+    let settings = PlannerSettings {
+        arm_spheres: Some(SphereSettings {
+            padding: -0.01,
+            max_per_link: 8,
+        }),
+        ..PlannerSettings::default()
+    };
+    let err = HierarchicalPlanner::new(RobotModel::kinova_gen3_mobile(), settings).unwrap_err();
+    assert!(
+        matches!(&err, PlannerError::InvalidSetting(s) if s.field == "arm_spheres.padding"),
+        "{err}"
+    );
 }
 
 /// Two rooms divided by a wall at x = -1.3 (0.04 m thick, 2 m high). The robot starts in the
@@ -443,4 +457,39 @@ fn the_same_input_gives_the_same_plan() {
     };
     let (first, second) = (run(), run());
     assert_eq!(first, second, "two runs of the same input differ");
+}
+
+#[test]
+fn the_sphere_fast_path_gives_the_same_plan_as_exact_checks() {
+    // The door of `the_same_input_gives_the_same_plan`, planned with the arm checks' sphere
+    // fast path (the default) and without it (`arm_spheres: None`, parry for every state):
+    // the fast path answers every validity query as the exact check does, so the seeded
+    // searches see the same answers and the plans are equal in every field.
+    let model = contact::counter_with_door();
+    let problem = problem(
+        &model,
+        "[goal]\ndoor_hinge = { min = 1.5 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
+    );
+    let run = |settings: PlannerSettings| {
+        let planner = HierarchicalPlanner::new(RobotModel::kinova_gen3_mobile(), settings)
+            .expect("the shipped robot builds");
+        let result = planner
+            .plan(
+                &model,
+                &problem,
+                &Termination::after(Duration::from_secs(120)),
+            )
+            .expect("valid input");
+        match result.outcome {
+            MotionOutcome::Solved(plan) => plan,
+            other => panic!("expected a plan, got {other:?}"),
+        }
+    };
+    assert!(PlannerSettings::default().arm_spheres.is_some());
+    let fast = run(PlannerSettings::default());
+    let exact = run(PlannerSettings {
+        arm_spheres: None,
+        ..PlannerSettings::default()
+    });
+    assert_eq!(fast, exact, "the sphere fast path changed the plan");
 }

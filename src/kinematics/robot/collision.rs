@@ -188,6 +188,19 @@ impl RobotCollision {
         None
     }
 
+    /// Whether the shapes of links `i` and `j` touch or overlap at `link_poses` (exact, as
+    /// [`RobotCollision::self_collision`] tests a pair; allowed or not). `false` if either
+    /// link has no pose or no shapes.
+    pub fn pair_touches(&self, link_poses: &[Isometry3<f64>], i: usize, j: usize) -> bool {
+        match (link_poses.get(i), link_poses.get(j)) {
+            (Some(pi), Some(pj)) if i < self.shapes.len() && j < self.shapes.len() => {
+                let (a, b) = (self.place_link(i, pi), self.place_link(j, pj));
+                min_distance(&a, &b, 0.0) <= 0.0
+            }
+            _ => false,
+        }
+    }
+
     /// The first robot link (lowest index) within `margin` (m, clearance required) of the
     /// scene, and the scene body it is closest to among those in reach: base map shapes of
     /// `model`, and its parts at the poses in `data` (which must hold

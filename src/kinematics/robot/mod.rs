@@ -112,6 +112,7 @@ mod error;
 mod model;
 mod pairs;
 mod pinocchio;
+mod spheres;
 mod srdf;
 mod stow;
 mod urdf;
@@ -126,5 +127,8 @@ pub use model::{
 };
 pub use pairs::{AllowedPair, PairReason, PairSampling};
 pub use pinocchio::TOOL_FRAME;
+pub use spheres::{
+    CELL_SLACK, RobotSpheres, SPHERE_SLACK, Sphere, SphereData, SphereObstacles, SphereSettings,
+};
 pub use srdf::{DisabledPair, GroupState, Srdf, SrdfGroup};
 pub use stow::StowSearch;

@@ -133,7 +133,7 @@ impl StepRefinement<'_, '_> {
             .chain(inward.iter().skip(1).cloned())
             .collect();
 
-        let hit = |d: &SceneData, q: &[f64]| self.arm(base, d, grasp).hit(q);
+        let hit = |d: &SceneData, q: &[f64]| self.arm_exact(base, d, grasp).hit(q);
         let (state, joint, step) = (self.state, self.joint, self.step);
         if let Some(reason) = check_manipulation(ctx, state, joint, step, placed.waypoints(), &hit)?
         {

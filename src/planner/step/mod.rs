@@ -59,7 +59,7 @@ use nalgebra::DVector;
 
 use super::{PlannerError, PlannerSettings};
 use crate::kinematics::ik::IkSolver;
-use crate::kinematics::robot::{RobotCollision, RobotModel};
+use crate::kinematics::robot::{RobotCollision, RobotModel, RobotSpheres};
 use crate::motion::paths::PathOutcome;
 use crate::motion::placement::PlacementData;
 use crate::motion::timing::TimedPath;
@@ -213,6 +213,7 @@ pub struct StepMotion {
 pub(super) struct StepContext<'a> {
     pub robot: &'a RobotModel,
     pub collision: &'a RobotCollision,
+    pub spheres: Option<&'a RobotSpheres>,
     pub ik: &'a IkSolver,
     pub settings: &'a PlannerSettings,
     pub model: &'a SceneModel,

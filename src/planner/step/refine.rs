@@ -7,7 +7,7 @@ use super::{
     Check, Contact, Failed, FailedSegment, StepContext, StepMotion, StepPath, StepReason,
     StepTiming, grasped, grid_bounds, path_or_reason, same_pose,
 };
-use crate::kinematics::robot::{BaseKind, Exempt, RobotConfig};
+use crate::kinematics::robot::{BaseKind, Exempt, RobotConfig, SphereObstacles};
 use crate::motion::paths::{differential_drive, first_invalid, plan_base};
 use crate::motion::placement::{
     JointMotion, Obstacle, PlacementOutcome, PlacementProblem, PlacementSettings, place_and_plan,
@@ -203,8 +203,30 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
         }))
     }
 
-    /// The arm check at the scene `data`, with `exempt`.
+    /// The arm check at the scene `data`, with `exempt`, with the sphere fast path when the
+    /// planner has one (its obstacles built here, once per call: use it for many states of
+    /// one scene state, [`Self::arm_exact`] for one).
     pub(super) fn arm<'d>(
+        &'d self,
+        base: [f64; 3],
+        data: &'d SceneData,
+        exempt: Exempt<'d>,
+    ) -> ArmCheck<'d>
+    where
+        'c: 'd,
+    {
+        let obstacles = self
+            .ctx
+            .spheres
+            .map(|_| SphereObstacles::new(self.ctx.model, data, exempt, self.arm_margin));
+        ArmCheck {
+            obstacles,
+            ..self.arm_exact(base, data, exempt)
+        }
+    }
+
+    /// The arm check at the scene `data`, with `exempt`, exact only (parry for every state).
+    pub(super) fn arm_exact<'d>(
         &'d self,
         base: [f64; 3],
         data: &'d SceneData,
@@ -219,6 +241,7 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
             data,
             exempt,
             margin: self.arm_margin,
+            obstacles: None,
         }
     }
 

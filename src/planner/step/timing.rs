@@ -84,7 +84,7 @@ impl StepRefinement<'_, '_> {
                 {
                     return false;
                 }
-                self.arm(base, data, grasp).valid(q)
+                self.arm_exact(base, data, grasp).valid(q)
             },
         )?;
         let data_after = self.after()?;

@@ -157,6 +157,33 @@ impl CompiledShape {
         self.shape.cast_ray(&pose, &ray, max, true)
     }
 
+    /// A rounded box enclosing the shape, in the owner frame: `(owner_from_box, half
+    /// extents, radius)`, the points within `radius` of the box. Exact for boxes, balls and
+    /// capsules (a segment is a box with two zero extents); the local bounding box of parry's
+    /// shape otherwise (cylinders, convex hulls).
+    pub(crate) fn rounded_box(&self) -> (Isometry3<f64>, Vector3<f64>, f64) {
+        if let Some(ball) = self.shape.as_ball() {
+            return (self.owner_from_parry, Vector3::zeros(), ball.radius);
+        }
+        let (mins, maxs, radius) = match self.shape.as_capsule() {
+            Some(c) => (
+                convert::from_vector(&c.segment.a.min(c.segment.b)),
+                convert::from_vector(&c.segment.a.max(c.segment.b)),
+                c.radius,
+            ),
+            None => {
+                let aabb = self.shape.compute_local_aabb();
+                (
+                    convert::from_vector(&aabb.mins),
+                    convert::from_vector(&aabb.maxs),
+                    0.0,
+                )
+            }
+        };
+        let center = nalgebra::Translation3::from((mins + maxs) / 2.0);
+        (self.owner_from_parry * center, (maxs - mins) / 2.0, radius)
+    }
+
     /// The bounding sphere's centre in the world, given the owner's world pose.
     pub(crate) fn world_center(&self, world_from_owner: &Isometry3<f64>) -> Point3<f64> {
         world_from_owner * self.sphere.center

@@ -1,0 +1,336 @@
+//! MotionBenchMaker on the Panda (VAMP's 700 problems: 7 scene families × 100), planned with
+//! the crate's public arm planner ([`plan_arm`], OMPL RRTConnect) twice from the same run:
+//! validity by the exact parry check, and by the sphere fast path ([`RobotSpheres`] against
+//! [`SphereObstacles`], exact fallback). Prints the success rate, the median and p95 planning
+//! time (wall clock, planning plus simplification) and the ratio of the medians.
+//!
+//! `cargo bench --bench mbm` (optionally `-- PER_SET`, the first `PER_SET` problems of each
+//! family; default 100, all).
+//!
+//! **Set-up (not timed, not in the tests).** The problems ship in the `vamp-planner` sdist on
+//! PyPI (`resources/panda/problems.tar.bz2`, MoveIt scene and request YAML). The first run
+//! fetches the sdist into `target/mbm/` with `pip download --no-deps --no-binary :all:
+//! vamp-planner` (pip from `$PIP`, default `python3 -m pip`), unpacks the problems with `tar`
+//! and converts them with `benches/mbm/convert.py` (`$PYTHON`, default `python3`, needs PyYAML)
+//! into `target/mbm/problems.json`; later runs reuse that file.
+//!
+//! **Robot.** The Panda of the PyPI package `example-robot-data` with its SRDF (mesh collision
+//! geometry as convex hulls), fingers frozen open at 0.04 m, base at the origin as in the
+//! problems. Its meshes are not VAMP's, so a start or goal may collide here: such problems are
+//! counted apart ("invalid endpoints") and the success rate is over the others.
+//!
+//! **Checks.** Clearance 0 (touching is a collision, as in MoveIt), OMPL's resolution 0.01 rad
+//! ([`PathSettings::default`]), seeded, 2 s budget per problem. Every returned path is
+//! re-checked with the exact check at a quarter of the planner's spacing ([`first_invalid`]);
+//! paths failing it are reported (issue 23's thin-obstacle problem).
+//!
+//! [`plan_arm`]: kinscene::motion::paths::plan_arm
+//! [`first_invalid`]: kinscene::motion::paths::first_invalid
+//! [`PathSettings::default`]: kinscene::motion::paths::PathSettings
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+use kinscene::Termination;
+use kinscene::kinematics::robot::{
+    Exempt, RobotCollision, RobotConfig, RobotImportOptions, RobotModel, RobotSpheres, SphereData,
+    SphereObstacles, SphereSettings, Srdf,
+};
+use kinscene::motion::paths::{PathOutcome, PathSettings, first_invalid, plan_arm};
+use kinscene::scene::{
+    BaseShape, SceneData, SceneModel, SceneModelBuilder, Shape, State, forward_kinematics,
+};
+use nalgebra::{DVector, Isometry3, Quaternion, Translation3, UnitQuaternion, Vector3};
+use serde::Deserialize;
+
+const ROOT: &str = env!("CARGO_MANIFEST_DIR");
+
+#[derive(Deserialize)]
+struct Problem {
+    set: String,
+    start: Vec<f64>,
+    goal: Vec<f64>,
+    obstacles: Vec<Obstacle>,
+}
+
+#[derive(Deserialize)]
+struct Obstacle {
+    kind: String,
+    dims: Vec<f64>,
+    position: [f64; 3],
+    orientation: [f64; 4],
+}
+
+fn run(cmd: &mut Command) {
+    let status = cmd.status().unwrap_or_else(|e| panic!("{cmd:?}: {e}"));
+    assert!(status.success(), "{cmd:?} failed: {status}");
+}
+
+/// `target/mbm/problems.json`, fetched and converted on the first run.
+fn problems() -> Vec<Problem> {
+    let dir = Path::new(ROOT).join("target/mbm");
+    let json = dir.join("problems.json");
+    if !json.exists() {
+        std::fs::create_dir_all(&dir).expect("target/mbm is writable");
+        let find_sdist = || {
+            std::fs::read_dir(&dir)
+                .ok()?
+                .filter_map(Result::ok)
+                .map(|e| e.path())
+                .find(|p| {
+                    p.file_name()
+                        .is_some_and(|n| n.to_string_lossy().starts_with("vamp_planner-"))
+                        && p.to_string_lossy().ends_with(".tar.gz")
+                })
+        };
+        if find_sdist().is_none() {
+            let pip = std::env::var("PIP").unwrap_or_else(|_| "python3 -m pip".into());
+            let mut words = pip.split_whitespace();
+            let mut cmd = Command::new(words.next().expect("PIP names a program"));
+            cmd.args(words)
+                .args([
+                    "download",
+                    "--no-deps",
+                    "--no-binary",
+                    ":all:",
+                    "vamp-planner",
+                    "-d",
+                ])
+                .arg(&dir);
+            run(&mut cmd);
+        }
+        let sdist = find_sdist().expect("pip left the vamp-planner sdist in target/mbm");
+        let stem = sdist
+            .file_name()
+            .unwrap()
+            .to_string_lossy()
+            .replace(".tar.gz", "");
+        let inner = format!("{stem}/resources/panda/problems.tar.bz2");
+        run(Command::new("tar")
+            .arg("xzf")
+            .arg(&sdist)
+            .arg("-C")
+            .arg(&dir)
+            .arg(&inner));
+        run(Command::new("tar")
+            .arg("xjf")
+            .arg(dir.join(&inner))
+            .arg("-C")
+            .arg(&dir));
+        let python = std::env::var("PYTHON").unwrap_or_else(|_| "python3".into());
+        run(Command::new(python)
+            .arg(Path::new(ROOT).join("benches/mbm/convert.py"))
+            .arg(dir.join("problems"))
+            .arg(&json));
+    }
+    let text = std::fs::read_to_string(&json).expect("problems.json is readable");
+    serde_json::from_str(&text).expect("problems.json parses")
+}
+
+fn example_robot_data() -> PathBuf {
+    let lib = Path::new(ROOT).join(".deps/venv/lib");
+    std::fs::read_dir(&lib)
+        .ok()
+        .and_then(|entries| {
+            entries
+                .filter_map(Result::ok)
+                .map(|e| {
+                    e.path()
+                        .join("site-packages/cmeel.prefix/share/example-robot-data")
+                })
+                .find(|p| p.is_dir())
+        })
+        .unwrap_or_else(|| panic!("example-robot-data is not in {lib:?}"))
+}
+
+fn panda() -> RobotModel {
+    let erd = example_robot_data();
+    let root = erd.join("robots/panda_description");
+    let mut options = RobotImportOptions {
+        tool_link: "panda_hand".into(),
+        ..RobotImportOptions::default()
+    };
+    options
+        .package_paths
+        .insert("example-robot-data".into(), erd);
+    for finger in ["panda_finger_joint1", "panda_finger_joint2"] {
+        options.frozen.insert(finger.into(), 0.04);
+    }
+    let robot = RobotModel::from_urdf_file_with(&root.join("urdf/panda.urdf"), &options)
+        .expect("the Panda loads");
+    let srdf = std::fs::read_to_string(root.join("srdf/panda.srdf")).expect("SRDF readable");
+    robot
+        .with_srdf(&Srdf::parse(&srdf).expect("SRDF parses"))
+        .expect("SRDF fits")
+}
+
+fn scene(problem: &Problem) -> (SceneModel, SceneData) {
+    let mut b = SceneModelBuilder::new();
+    for (k, o) in problem.obstacles.iter().enumerate() {
+        let shape = match o.kind.as_str() {
+            "box" => Shape::box_size(Vector3::new(o.dims[0], o.dims[1], o.dims[2])),
+            "cylinder" => Shape::cylinder(o.dims[1], o.dims[0]),
+            "sphere" => Shape::sphere(o.dims[0]),
+            other => panic!("unknown primitive {other}"),
+        };
+        let [x, y, z, w] = o.orientation;
+        let pose = Isometry3::from_parts(
+            Translation3::from(Vector3::from(o.position)),
+            UnitQuaternion::from_quaternion(Quaternion::new(w, x, y, z)),
+        );
+        b.add_base_shape(BaseShape::new(format!("o{k}"), shape, pose));
+    }
+    let model = b.build().expect("the scene builds");
+    let mut data = SceneData::new(&model);
+    let state = State::from_slice(&model, &[]).expect("no joints");
+    forward_kinematics(&model, &mut data, &state).expect("no joints");
+    (model, data)
+}
+
+/// A validity closure as `plan_arm` takes it.
+type Checker<'a> = dyn Fn(&[f64]) -> bool + Sync + 'a;
+
+struct Stats {
+    times: Vec<Duration>,
+    solved: usize,
+    recheck_failures: usize,
+}
+
+fn quantile(sorted: &[Duration], q: f64) -> Duration {
+    if sorted.is_empty() {
+        return Duration::ZERO;
+    }
+    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
+}
+
+fn main() {
+    let per_set: usize = std::env::args()
+        .skip(1)
+        .find_map(|a| a.parse().ok())
+        .unwrap_or(100);
+    let mut problems = problems();
+    let mut taken = std::collections::BTreeMap::<String, usize>::new();
+    problems.retain(|p| {
+        let n = taken.entry(p.set.clone()).or_default();
+        *n += 1;
+        *n <= per_set
+    });
+    let robot = panda();
+    let collision = RobotCollision::new(&robot).expect("collision model");
+    let spheres =
+        RobotSpheres::new(&robot, &collision, &SphereSettings::default()).expect("sphere model");
+    let (lower, upper) = robot.arm_bounds();
+    let (lower, upper) = (lower.as_slice().to_vec(), upper.as_slice().to_vec());
+    let settings = PathSettings {
+        budget: Duration::from_secs(2),
+        seed: Some(1),
+        ..PathSettings::default()
+    };
+    println!(
+        "MotionBenchMaker Panda: {} problems, {} spheres on the robot",
+        problems.len(),
+        spheres.count()
+    );
+    let mut stats = [(); 2].map(|_| Stats {
+        times: Vec::new(),
+        solved: 0,
+        recheck_failures: 0,
+    });
+    let mut invalid_endpoints = 0;
+    let mut warmed = false;
+    for problem in &problems {
+        let (model, data) = scene(problem);
+        let poses = |q: &[f64]| {
+            robot
+                .link_poses(&RobotConfig {
+                    base: [0.0; 3],
+                    arm: DVector::from_column_slice(q),
+                })
+                .ok()
+        };
+        let exact = |q: &[f64]| {
+            poses(q).is_some_and(|p| {
+                collision.self_collision(&p).is_none()
+                    && collision
+                        .scene_collision(&p, &model, &data, Exempt::Nothing, 0.0)
+                        .is_none()
+            })
+        };
+        if !exact(&problem.start) || !exact(&problem.goal) {
+            invalid_endpoints += 1;
+            continue;
+        }
+        let obstacles = SphereObstacles::new(&model, &data, Exempt::Nothing, 0.0);
+        let fast = |q: &[f64]| {
+            let Some(p) = poses(q) else { return false };
+            let mut placed = SphereData::default();
+            spheres.place(&p, &mut placed);
+            spheres
+                .self_collision_exact(&placed, &collision, &p)
+                .is_none()
+                && (obstacles.first_hit(&placed).is_none()
+                    || collision
+                        .scene_collision(&p, &model, &data, Exempt::Nothing, 0.0)
+                        .is_none())
+        };
+        let checkers: [&Checker<'_>; 2] = [&exact, &fast];
+        if !warmed {
+            // The first call loads the OMPL shim: not charged to any problem.
+            let _ = plan_arm(
+                &problem.start,
+                &problem.goal,
+                &lower,
+                &upper,
+                &exact,
+                &settings,
+                &Termination::none(),
+            );
+            warmed = true;
+        }
+        for (stat, check) in stats.iter_mut().zip(checkers) {
+            let t0 = Instant::now();
+            let outcome = plan_arm(
+                &problem.start,
+                &problem.goal,
+                &lower,
+                &upper,
+                check,
+                &settings,
+                &Termination::none(),
+            )
+            .expect("valid input");
+            let elapsed = t0.elapsed();
+            stat.times.push(elapsed);
+            if let PathOutcome::Solved(path) = outcome {
+                stat.solved += 1;
+                if first_invalid(&path, settings.resolution / 4.0, false, &exact).is_some() {
+                    stat.recheck_failures += 1;
+                }
+            }
+        }
+    }
+    let attempted = problems.len() - invalid_endpoints;
+    println!(
+        "invalid endpoints (start or goal collides with this Panda model): {invalid_endpoints}"
+    );
+    let mut medians = Vec::new();
+    for (name, stat) in ["exact parry", "sphere fast path"].iter().zip(&mut stats) {
+        stat.times.sort();
+        let median = quantile(&stat.times, 0.5);
+        medians.push(median);
+        println!(
+            "{name:>17}: solved {}/{attempted} ({:.1} %), median {:.2} ms, p95 {:.2} ms, \
+             exact re-check at 1/4 spacing fails on {}",
+            stat.solved,
+            100.0 * stat.solved as f64 / attempted.max(1) as f64,
+            median.as_secs_f64() * 1e3,
+            quantile(&stat.times, 0.95).as_secs_f64() * 1e3,
+            stat.recheck_failures
+        );
+    }
+    println!(
+        "median ratio exact / fast path: {:.2} (targets of issue 23: 100 % of solvable, median <= 1 ms, p95 <= 20 ms)",
+        medians[0].as_secs_f64() / medians[1].as_secs_f64().max(1e-12)
+    );
+}

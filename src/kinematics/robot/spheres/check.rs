@@ -1,0 +1,142 @@
+//! The spheres of one configuration in world coordinates, as lanes of `f32x8`, and the
+//! self-collision test between them.
+
+use nalgebra::Isometry3;
+use wide::f32x8;
+
+use super::RobotSpheres;
+use crate::kinematics::robot::RobotCollision;
+
+/// Slack (m) added to every sum of radii compared in `f32`: it covers the rounding of world
+/// coordinates to `f32` (relative 6e-8, so under 1e-6 m within 10 m of the origin) and of the
+/// few operations of a test, keeping the sphere tests conservative against the exact `f64`
+/// geometry.
+pub const SPHERE_SLACK: f32 = 1e-4;
+
+/// Lanes per SIMD block.
+pub(super) const LANES: usize = 8;
+
+/// Where padding lanes sit (m, every coordinate): far from any real geometry, with radius 0.
+pub(super) const FAR: f32 = 1e9;
+
+/// The robot's spheres at one configuration (world frame, `f32`), filled by
+/// [`RobotSpheres::place`]: caller-owned scratch, reused across configurations.
+///
+/// Per link, its spheres are stored contiguously and padded to a multiple of 8 lanes with
+/// far-away spheres of radius 0.
+#[derive(Debug, Clone, Default)]
+pub struct SphereData {
+    pub(super) x: Vec<f32>,
+    pub(super) y: Vec<f32>,
+    pub(super) z: Vec<f32>,
+    pub(super) r: Vec<f32>,
+    /// Per sphere: bit 0 set on a base link, bit 1 set on a contact shape.
+    pub(super) kind: Vec<u8>,
+    /// Per link: first index and number of real spheres (the padded block follows).
+    pub(super) links: Vec<(usize, usize)>,
+}
+
+impl SphereData {
+    /// The number of real (not padding) spheres placed.
+    pub fn len(&self) -> usize {
+        self.links.iter().map(|l| l.1).sum()
+    }
+
+    /// Whether no sphere is placed.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// One block of 8 lanes from `start`.
+    pub(super) fn block(&self, start: usize) -> [f32x8; 4] {
+        let lane = |v: &[f32]| f32x8::new(v[start..start + LANES].try_into().unwrap_or([FAR; 8]));
+        [lane(&self.x), lane(&self.y), lane(&self.z), lane(&self.r)]
+    }
+}
+
+impl RobotSpheres {
+    /// Places every link's spheres at `link_poses` (world from link, as
+    /// [`RobotModel::link_poses`](super::super::RobotModel::link_poses) returns) into `data`.
+    /// Links without a pose (a shorter slice) get no spheres.
+    pub fn place(&self, link_poses: &[Isometry3<f64>], data: &mut SphereData) {
+        for v in [&mut data.x, &mut data.y, &mut data.z, &mut data.r] {
+            v.clear();
+        }
+        data.kind.clear();
+        data.links.clear();
+        for (l, (spheres, pose)) in self.links.iter().zip(link_poses).enumerate() {
+            let start = data.x.len();
+            let base = u8::from(self.base_links.contains(&l));
+            for (s, &contact) in spheres.iter().zip(&self.contact[l]) {
+                let c = pose * s.center;
+                data.x.push(c.x as f32);
+                data.y.push(c.y as f32);
+                data.z.push(c.z as f32);
+                data.r.push(s.radius as f32);
+                data.kind.push(base | (u8::from(contact) << 1));
+            }
+            while (data.x.len() - start) % LANES != 0 {
+                for v in [&mut data.x, &mut data.y, &mut data.z] {
+                    v.push(FAR);
+                }
+                data.r.push(0.0);
+                data.kind.push(0);
+            }
+            data.links.push((start, spheres.len()));
+        }
+    }
+
+    /// The first checked link pair `(i, j)` (in the order of
+    /// [`RobotSpheres::checked_pairs`]) with a sphere of `i` and a sphere of `j` within
+    /// the sum of their radii plus [`SPHERE_SLACK`], or `None`. `None` means the exact
+    /// geometry is free of self-collision too (the spheres cover it).
+    pub fn self_collision(&self, data: &SphereData) -> Option<(usize, usize)> {
+        self.checked
+            .iter()
+            .copied()
+            .find(|&(i, j)| self.pair_meets(data, i, j))
+    }
+
+    /// Exact self-collision with the spheres as the broad phase: the first checked pair whose
+    /// spheres meet ([`RobotSpheres::pair_meets`]) and whose exact shapes touch
+    /// ([`RobotCollision::pair_touches`]). The same answer as
+    /// [`RobotCollision::self_collision`] when `self` was built from `collision` and `data`
+    /// holds the spheres placed at `link_poses` (pairs the spheres clear cannot touch).
+    pub fn self_collision_exact(
+        &self,
+        data: &SphereData,
+        collision: &RobotCollision,
+        link_poses: &[Isometry3<f64>],
+    ) -> Option<(usize, usize)> {
+        self.checked
+            .iter()
+            .copied()
+            .find(|&(i, j)| self.pair_meets(data, i, j) && collision.pair_touches(link_poses, i, j))
+    }
+
+    /// Whether a sphere of link `i` and a sphere of link `j` in `data` are within the sum of
+    /// their radii plus [`SPHERE_SLACK`] (`false` if either link has no spheres placed).
+    pub fn pair_meets(&self, data: &SphereData, i: usize, j: usize) -> bool {
+        let (Some(&(si, ni)), Some(&(sj, nj))) = (data.links.get(i), data.links.get(j)) else {
+            return false;
+        };
+        let slack = f32x8::splat(SPHERE_SLACK);
+        for a in si..si + ni {
+            let (ax, ay, az) = (
+                f32x8::splat(data.x[a]),
+                f32x8::splat(data.y[a]),
+                f32x8::splat(data.z[a]),
+            );
+            let ar = f32x8::splat(data.r[a]) + slack;
+            for start in (sj..sj + nj).step_by(LANES) {
+                let [bx, by, bz, br] = data.block(start);
+                let (dx, dy, dz) = (bx - ax, by - ay, bz - az);
+                let reach = br + ar;
+                if (dx * dx + dy * dy + dz * dz).simd_le(reach * reach).any() {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+}

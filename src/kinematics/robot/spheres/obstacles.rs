@@ -1,0 +1,182 @@
+//! The scene as a flat array of rounded boxes in lanes of `f32x8`, built once per scene state,
+//! and the batch test of a configuration's spheres against it.
+
+use nalgebra::{Isometry3, Vector3};
+use wide::f32x8;
+
+use super::check::{FAR, LANES, SPHERE_SLACK, SphereData};
+use crate::kinematics::robot::{Exempt, GROUND_TOP};
+use crate::scene::collision::geometry::CompiledShape;
+use crate::scene::{PartId, SceneData, SceneModel};
+
+/// Eight rounded boxes, one per lane: centre, box axes (world), half extents, radius.
+#[derive(Debug, Clone, Copy)]
+struct Block {
+    center: [f32x8; 3],
+    /// `axes[k][c]`: component `c` of box axis `k`.
+    axes: [[f32x8; 3]; 3],
+    half: [f32x8; 3],
+    /// The rounding radius plus the margin and [`SPHERE_SLACK`].
+    reach: f32x8,
+}
+
+/// One obstacle before packing: world pose of its box, half extents, reach.
+type Rounded = (Isometry3<f64>, Vector3<f64>, f64);
+
+/// The scene's collision shapes at one state as rounded boxes enclosing them (exact for boxes,
+/// balls and capsules; the shape's own bounding box for cylinders and hulls), packed in lanes
+/// of 8 for [`SphereObstacles::first_hit`].
+///
+/// It applies the exemptions of [`RobotCollision::scene_collision`] with the same `exempt`
+/// and `margin`: base-link spheres skip the floor (shapes with tops at most [`GROUND_TOP`]),
+/// contact spheres skip the grasped parts of [`Exempt::Grasp`], and [`Exempt::Parts`] are left
+/// out. Each obstacle encloses its exact shape, so [`SphereObstacles::first_hit`] returning
+/// `None` implies `scene_collision` returns `None`.
+///
+/// [`RobotCollision::scene_collision`]: crate::kinematics::robot::RobotCollision::scene_collision
+#[derive(Debug, Clone)]
+pub struct SphereObstacles {
+    /// Per sphere kind (bit 0: base link, bit 1: contact shape), the obstacles it is tested
+    /// against.
+    sets: [Vec<Block>; 4],
+    count: usize,
+}
+
+impl SphereObstacles {
+    /// The obstacles of `model` at the part poses of `data` (which must hold
+    /// [`crate::scene::forward_kinematics`] of `model`), with `exempt` and `margin` (m; a
+    /// negative or NaN margin counts as 0) as [`RobotCollision::scene_collision`] takes them.
+    ///
+    /// [`RobotCollision::scene_collision`]: crate::kinematics::robot::RobotCollision::scene_collision
+    pub fn new(
+        model: &SceneModel,
+        data: &SceneData,
+        exempt: Exempt<'_>,
+        margin: f64,
+    ) -> SphereObstacles {
+        let (ignore, grasped): (&[PartId], &[PartId]) = match exempt {
+            Exempt::Nothing => (&[], &[]),
+            Exempt::Grasp(parts) => (&[], parts),
+            Exempt::Parts(parts) => (parts, &[]),
+        };
+        let margin = if margin > 0.0 { margin } else { 0.0 };
+        // (obstacle, on the floor, grasped)
+        let mut all: Vec<(Rounded, bool, bool)> = Vec::new();
+        let mut add = |shape: &CompiledShape, world_from_owner: &Isometry3<f64>, grasp: bool| {
+            let floor = shape.world_box(world_from_owner).max.z <= GROUND_TOP;
+            let (owner_from_box, half, radius) = shape.rounded_box();
+            all.push((
+                (world_from_owner * owner_from_box, half, radius + margin),
+                floor,
+                grasp,
+            ));
+        };
+        let identity = Isometry3::identity();
+        for shape in &model.geometry.base {
+            add(shape, &identity, false);
+        }
+        for (p, (shapes, pose)) in model
+            .geometry
+            .parts
+            .iter()
+            .zip(data.world_from_parts())
+            .enumerate()
+        {
+            if ignore.contains(&PartId(p)) {
+                continue;
+            }
+            for shape in shapes {
+                add(shape, pose, grasped.contains(&PartId(p)));
+            }
+        }
+        let count = all.len();
+        let sets = std::array::from_fn(|kind| {
+            let (base, contact) = (kind & 1 != 0, kind & 2 != 0);
+            let kept: Vec<Rounded> = all
+                .iter()
+                .filter(|(_, floor, grasp)| !(base && *floor || contact && *grasp))
+                .map(|(o, _, _)| *o)
+                .collect();
+            kept.chunks(LANES).map(pack).collect()
+        });
+        SphereObstacles { sets, count }
+    }
+
+    /// The number of obstacles (scene shapes not left out by the exemption).
+    pub fn len(&self) -> usize {
+        self.count
+    }
+
+    /// Whether there are no obstacles.
+    pub fn is_empty(&self) -> bool {
+        self.count == 0
+    }
+
+    /// The first link (lowest index) of which a sphere in `spheres` (placed by
+    /// [`RobotSpheres::place`](super::RobotSpheres::place)) comes within its obstacles' reach
+    /// (rounding radius + margin + [`SPHERE_SLACK`]), or `None`: then the robot's exact
+    /// geometry keeps the margin from the scene.
+    pub fn first_hit(&self, spheres: &SphereData) -> Option<usize> {
+        for (l, &(start, n)) in spheres.links.iter().enumerate() {
+            for s in start..start + n {
+                let set = &self.sets[usize::from(spheres.kind[s] & 3)];
+                let p = [
+                    f32x8::splat(spheres.x[s]),
+                    f32x8::splat(spheres.y[s]),
+                    f32x8::splat(spheres.z[s]),
+                ];
+                let r = f32x8::splat(spheres.r[s]);
+                if set.iter().any(|b| hits(b, &p, r)) {
+                    return Some(l);
+                }
+            }
+        }
+        None
+    }
+}
+
+/// Whether the sphere at `p` of radius `r` reaches any lane's rounded box: the distance from
+/// `p` to the box (clamped per box axis) is at most `r` plus the lane's reach.
+#[inline]
+fn hits(b: &Block, p: &[f32x8; 3], r: f32x8) -> bool {
+    let d = [p[0] - b.center[0], p[1] - b.center[1], p[2] - b.center[2]];
+    let zero = f32x8::splat(0.0);
+    let mut dist2 = zero;
+    for k in 0..3 {
+        let along = b.axes[k][0] * d[0] + b.axes[k][1] * d[1] + b.axes[k][2] * d[2];
+        let out = (along.abs() - b.half[k]).max(zero);
+        dist2 += out * out;
+    }
+    let reach = r + b.reach;
+    dist2.simd_le(reach * reach).any()
+}
+
+/// Packs up to 8 obstacles into a block; missing lanes are far away with reach 0.
+fn pack(obstacles: &[Rounded]) -> Block {
+    let mut center = [[FAR; LANES]; 3];
+    // Padding lanes keep the identity axes, so that their distance is the (huge) distance to
+    // `FAR`: zero axes would put every point at distance 0.
+    let mut axes: [[[f32; LANES]; 3]; 3] =
+        std::array::from_fn(|k| std::array::from_fn(|c| [f32::from(u8::from(k == c)); LANES]));
+    let mut half = [[0.0f32; LANES]; 3];
+    let mut reach = [0.0f32; LANES];
+    for (lane, (world_from_box, h, rounding)) in obstacles.iter().enumerate() {
+        let rotation = world_from_box.rotation.to_rotation_matrix();
+        for c in 0..3 {
+            center[c][lane] = world_from_box.translation.vector[c] as f32;
+            half[c][lane] = h[c] as f32;
+        }
+        for (k, axis) in axes.iter_mut().enumerate() {
+            for (c, component) in axis.iter_mut().enumerate() {
+                component[lane] = rotation[(c, k)] as f32;
+            }
+        }
+        reach[lane] = *rounding as f32 + SPHERE_SLACK;
+    }
+    Block {
+        center: center.map(f32x8::new),
+        axes: axes.map(|a| a.map(f32x8::new)),
+        half: half.map(f32x8::new),
+        reach: f32x8::new(reach),
+    }
+}
