@@ -9,10 +9,11 @@
 //!
 //! **Set-up (not timed, not in the tests).** The problems ship in the `vamp-planner` sdist on
 //! PyPI (`resources/panda/problems.tar.bz2`, MoveIt scene and request YAML). The first run
-//! fetches the sdist into `target/mbm/` with `pip download --no-deps --no-binary :all:
-//! vamp-planner` (pip from `$PIP`, default `python3 -m pip`), unpacks the problems with `tar`
-//! and converts them with `benches/mbm/convert.py` (`$PYTHON`, default `python3`, needs PyYAML)
-//! into `target/mbm/problems.json`; later runs reuse that file.
+//! fetches the pinned sdist (0.6.4, SHA-256 checked) into `target/mbm/` with
+//! `benches/mbm/fetch.py` (PyPI's JSON API; no build step), unpacks the problems with `tar` and
+//! converts them with `benches/mbm/convert.py` into `target/mbm/problems.json`; later runs
+//! reuse that file. Python is `$PYTHON`, default the bench venv's (`bash setup.sh --bench`
+//! installs PyYAML there), else `python3`.
 //!
 //! **Robot.** The Panda of the PyPI package `example-robot-data` with its SRDF (mesh collision
 //! geometry as convex hulls), fingers frozen open at 0.04 m, base at the origin as in the
@@ -84,23 +85,13 @@ fn problems() -> Vec<Problem> {
                         && p.to_string_lossy().ends_with(".tar.gz")
                 })
         };
+        let python = std::env::var("PYTHON").unwrap_or_else(|_| default_python());
         if find_sdist().is_none() {
-            let pip = std::env::var("PIP").unwrap_or_else(|_| "python3 -m pip".into());
-            let mut words = pip.split_whitespace();
-            let mut cmd = Command::new(words.next().expect("PIP names a program"));
-            cmd.args(words)
-                .args([
-                    "download",
-                    "--no-deps",
-                    "--no-binary",
-                    ":all:",
-                    "vamp-planner",
-                    "-d",
-                ])
-                .arg(&dir);
-            run(&mut cmd);
+            run(Command::new(&python)
+                .arg(Path::new(ROOT).join("benches/mbm/fetch.py"))
+                .arg(&dir));
         }
-        let sdist = find_sdist().expect("pip left the vamp-planner sdist in target/mbm");
+        let sdist = find_sdist().expect("fetch.py left the vamp-planner sdist in target/mbm");
         let stem = sdist
             .file_name()
             .unwrap()
@@ -118,14 +109,23 @@ fn problems() -> Vec<Problem> {
             .arg(dir.join(&inner))
             .arg("-C")
             .arg(&dir));
-        let python = std::env::var("PYTHON").unwrap_or_else(|_| "python3".into());
-        run(Command::new(python)
+        run(Command::new(&python)
             .arg(Path::new(ROOT).join("benches/mbm/convert.py"))
             .arg(dir.join("problems"))
             .arg(&json));
     }
     let text = std::fs::read_to_string(&json).expect("problems.json is readable");
     serde_json::from_str(&text).expect("problems.json parses")
+}
+
+/// The bench venv's Python (`setup.sh --bench`, which installs PyYAML), else `python3`.
+fn default_python() -> String {
+    let venv = Path::new(ROOT).join(".deps/bench-venv/bin/python");
+    if venv.exists() {
+        venv.to_string_lossy().into_owned()
+    } else {
+        "python3".into()
+    }
 }
 
 fn example_robot_data() -> PathBuf {
