@@ -85,7 +85,7 @@ fn maze_plan(c: &mut Criterion) {
         vec![8.0, 8.0, 3.0],
     );
     let settings = PlanSettings {
-        resolution: 0.005,
+        resolution_fraction: 0.005,
         ..PlanSettings::default()
     };
     let budget = Termination::after(Duration::from_secs(10));

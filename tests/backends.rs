@@ -172,7 +172,7 @@ fn all_three_in_one_process() {
         goal.clone(),
     );
     let settings = PlanSettings {
-        resolution: RESOLUTION,
+        resolution_fraction: RESOLUTION,
         ..PlanSettings::default()
     };
     let outcome = ompl::plan(

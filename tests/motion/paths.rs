@@ -220,14 +220,10 @@ fn walled_off_goal_is_an_outcome_within_the_budget() {
         &Termination::none(),
     );
     let elapsed = t0.elapsed();
+    // RRTConnect searches until its budget runs out; OMPL then reports an approximate
+    // solution, which is a timeout (not a proof that no path exists).
     assert!(
-        matches!(
-            outcome,
-            Ok(PathOutcome::Timeout(())
-                | PathOutcome::Infeasible(
-                    PathFailure::Planner { .. } | PathFailure::Approximate { .. }
-                ))
-        ),
+        matches!(outcome, Ok(PathOutcome::Timeout(()))),
         "{outcome:?}"
     );
     // The budget covers planning and simplification; allow 0.5 s for set-up and the shim load.

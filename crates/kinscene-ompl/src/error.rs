@@ -43,11 +43,11 @@ pub enum Error {
     /// The time budget is zero.
     #[error("the time budget must be positive")]
     NonPositiveBudget,
-    /// The motion-check resolution is outside (0, 1).
-    #[error("motion-check resolution {resolution} is not in (0, 1)")]
+    /// The motion-check resolution fraction is outside (0, 1).
+    #[error("motion-check resolution fraction {resolution_fraction} is not in (0, 1)")]
     ResolutionOutOfRange {
-        /// The resolution given.
-        resolution: f64,
+        /// The fraction given.
+        resolution_fraction: f64,
     },
     /// Another setting is out of its domain.
     #[error("{name} = {value} is invalid: must be {requirement}")]

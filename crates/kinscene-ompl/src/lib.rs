@@ -50,7 +50,7 @@ mod space;
 
 pub use checker::StateValidityChecker;
 pub use error::Error;
-pub use global::{DEFAULT_LOG_LEVEL, LogLevel, set_log_level, set_seed};
+pub use global::{DEFAULT_LOG_LEVEL, LogLevel, load, set_log_level, set_seed};
 pub use plan::{PlanOutcome, PlanStatus, plan};
 pub use settings::{PlanSettings, Planner, Termination};
 pub use space::{Problem, StateSpace};

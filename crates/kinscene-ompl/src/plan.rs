@@ -130,7 +130,7 @@ pub fn plan<C: StateValidityChecker + ?Sized>(
         goal: problem.goal.as_ptr(),
         goal_tolerance: problem.goal_tolerance,
         range: settings.range.unwrap_or(0.0),
-        resolution: settings.resolution,
+        resolution: settings.resolution_fraction,
         budget_s: termination.budget.as_secs_f64(),
         simplify: i32::from(settings.simplify),
         // validate() checked that it fits.

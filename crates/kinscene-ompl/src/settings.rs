@@ -90,12 +90,14 @@ pub struct PlanSettings {
     /// maximum extent for most planners). Ignored by planners without a range
     /// ([`Planner::has_range`]).
     pub range: Option<f64>,
-    /// Motion-check resolution, OMPL's `setStateValidityCheckingResolution`: a motion is
-    /// checked at states no further apart than `resolution × maximum extent` of the space (see
+    /// Motion-check resolution as a *fraction* of the space, OMPL's
+    /// `setStateValidityCheckingResolution`: a motion is checked at states no further apart
+    /// than `resolution_fraction × maximum extent` of the space (see
     /// [`StateSpace`](crate::StateSpace)). In (0, 1) (OMPL rejects 1 and values within machine
     /// epsilon of 0 or 1); OMPL's default is 0.01. An obstacle thinner than that step may be
-    /// jumped over.
-    pub resolution: f64,
+    /// jumped over. (`kinscene::motion::paths::PathSettings::resolution` is the same spacing
+    /// in the space's distance.)
+    pub resolution_fraction: f64,
     /// Shorten and smooth the solution with OMPL's `PathSimplifier::simplify`, for the time
     /// left in the budget (at least one pass, even when the planner used the whole budget).
     /// Skipped when cancelled. The path's first and last states are kept.
@@ -117,7 +119,7 @@ impl Default for PlanSettings {
         PlanSettings {
             planner: Planner::default(),
             range: None,
-            resolution: 0.01,
+            resolution_fraction: 0.01,
             simplify: true,
             interpolate_to: None,
             cost_threshold: None,
@@ -141,9 +143,11 @@ impl PlanSettings {
     /// `interpolate_to` (2 ..= u32::MAX) or `cost_threshold` (≥ 0, not NaN).
     pub fn validate(&self) -> Result<(), Error> {
         // OMPL's own check (StateSpace::setLongestValidSegmentFraction).
-        if !(self.resolution >= f64::EPSILON && self.resolution <= 1.0 - f64::EPSILON) {
+        if !(self.resolution_fraction >= f64::EPSILON
+            && self.resolution_fraction <= 1.0 - f64::EPSILON)
+        {
             return Err(Error::ResolutionOutOfRange {
-                resolution: self.resolution,
+                resolution_fraction: self.resolution_fraction,
             });
         }
         if let Some(range) = self.range {

@@ -141,7 +141,7 @@ fn bad_settings_are_typed_errors() {
     ));
     for resolution in [0.0, -0.1, 1e-17, 1.0, 1.5, f64::NAN] {
         let r = try_settings(PlanSettings {
-            resolution,
+            resolution_fraction: resolution,
             ..PlanSettings::default()
         });
         assert!(
@@ -152,7 +152,7 @@ fn bad_settings_are_typed_errors() {
     // Just below 1 (about one check per motion, at its end) is allowed.
     let _serial = serial();
     let r = try_settings(PlanSettings {
-        resolution: 0.999,
+        resolution_fraction: 0.999,
         ..PlanSettings::default()
     });
     assert!(r.is_ok(), "{r:?}");
@@ -211,4 +211,12 @@ fn zero_extent_space_is_an_ompl_exception() {
         }
         other => panic!("expected a C++ exception, got {other:?}"),
     }
+}
+
+/// `load` loads the shim ahead of the first plan (so a budget does not pay for it) and is
+/// idempotent.
+#[test]
+fn the_shim_loads_ahead_of_the_first_plan() {
+    assert!(kinscene_ompl::load().is_ok());
+    assert!(kinscene_ompl::load().is_ok());
 }

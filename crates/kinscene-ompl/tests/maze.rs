@@ -61,7 +61,7 @@ fn solve_and_check(problem: &Problem, valid: impl Fn(&[f64], f64) -> bool + Sync
     assert!(MARGIN >= RESOLUTION * extent(&problem.space) / 2.0);
 
     let settings = PlanSettings {
-        resolution: RESOLUTION,
+        resolution_fraction: RESOLUTION,
         ..PlanSettings::default()
     };
     let checker = |q: &[f64]| valid(q, MARGIN);

@@ -78,7 +78,7 @@ fn every_planner_solves_an_easy_problem_in_each_space() {
         let space = &problem.space;
         // The planner's checker keeps a margin ≥ h/2, h = resolution × extent, so that the
         // dense re-check against the bare obstacle is sound (see maze.rs).
-        let margin = 0.6 * PlanSettings::default().resolution * extent(space);
+        let margin = 0.6 * PlanSettings::default().resolution_fraction * extent(space);
         // Twice the start-goal distance (a lower bound of any path's length): loose enough that
         // the optimising planners meet it with their first solutions, so they stop early.
         let threshold = 2.0 * distance(space, &problem.start, &problem.goal);

@@ -74,6 +74,10 @@ pub struct PathSettings {
     /// space (capped at 0.5). Default 0.01. An obstacle thinner than this may be jumped over:
     /// the validity closure should keep a clearance margin that covers it.
     pub resolution: f64,
+    /// Largest extension of the planner's trees, in the same distance as `resolution`
+    /// (OMPL's `range`); `None` (default): OMPL's own (a fifth of the space's maximum extent
+    /// for most planners). Ignored by planners without a range.
+    pub range: Option<f64>,
     /// Shorten and smooth the path with OMPL's `PathSimplifier` (within the budget). Default
     /// true.
     pub simplify: bool,
@@ -91,6 +95,7 @@ impl Default for PathSettings {
             planner: Planner::RrtConnect,
             budget: Duration::from_secs(1),
             resolution: 0.01,
+            range: None,
             simplify: true,
             seed: None,
         }
@@ -98,7 +103,7 @@ impl Default for PathSettings {
 }
 
 impl PathSettings {
-    /// Checks the budget (positive) and the resolution (positive, finite).
+    /// Checks the budget (positive), the resolution and the range (positive, finite).
     ///
     /// # Errors
     /// [`PathError::InvalidSetting`].
@@ -110,6 +115,9 @@ impl PathSettings {
             return Err(
                 InvalidSetting::new("resolution", self.resolution, "finite and > 0").into(),
             );
+        }
+        if let Some(range) = self.range.filter(|r| !(r.is_finite() && *r > 0.0)) {
+            return Err(InvalidSetting::new("range", range, "finite and > 0").into());
         }
         Ok(())
     }

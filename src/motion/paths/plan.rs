@@ -178,10 +178,13 @@ fn run<C: StateValidityChecker>(
     }
     let ompl_settings = PlanSettings {
         planner: settings.planner,
-        resolution: fraction,
+        range: settings.range,
+        resolution_fraction: fraction,
         simplify: settings.simplify,
         ..PlanSettings::default()
     };
+    // The shim is loaded before the budget starts (the first call's load is not planning).
+    kinscene_ompl::load()?;
     // The one conversion to OMPL's condition: this call's share of the caller's condition,
     // capped by the per-path budget.
     let ours = termination.capped(settings.budget);
@@ -189,6 +192,7 @@ fn run<C: StateValidityChecker>(
     if ours.should_stop() || budget.is_zero() {
         return Ok(PathOutcome::stopped(&ours, ()));
     }
+    let deadline = std::time::Instant::now() + budget;
     let mut termination = Termination::after(budget);
     if let Some(flag) = ours.cancel_flag() {
         termination = termination.with_cancel(flag);
@@ -205,16 +209,22 @@ fn run<C: StateValidityChecker>(
             kinscene_ompl::plan(problem, checker, &ompl_settings, termination)?
         }
     };
-    Ok(map_outcome(outcome))
+    Ok(map_outcome(
+        outcome,
+        std::time::Instant::now() >= deadline || ours.should_stop(),
+    ))
 }
 
-/// OMPL's status as a [`PathOutcome`]; approximate solutions are not paths.
-fn map_outcome(outcome: PlanOutcome) -> PathOutcome {
+/// OMPL's status as a [`PathOutcome`]; approximate solutions are not paths. OMPL's planners
+/// return an approximate solution when their termination condition stops them, so one that
+/// comes back after the budget ran out (`expired`) is a [`PathOutcome::Timeout`].
+fn map_outcome(outcome: PlanOutcome, expired: bool) -> PathOutcome {
     let failure = match outcome.status {
         PlanStatus::ExactSolution if !outcome.path.is_empty() => {
             return PathOutcome::Solved(outcome.path);
         }
         PlanStatus::Timeout => return PathOutcome::Timeout(()),
+        PlanStatus::ApproximateSolution if expired => return PathOutcome::Timeout(()),
         PlanStatus::Cancelled => return PathOutcome::Cancelled(()),
         PlanStatus::ApproximateSolution => PathFailure::Approximate {
             goal_distance: outcome.goal_distance.unwrap_or(f64::INFINITY),
