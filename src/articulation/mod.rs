@@ -46,7 +46,10 @@ pub use estimate::{
     validate_ee_poses,
 };
 pub use metrics::{axis_angle_error, axis_position_error, joint_type_accuracy};
-pub use proprioceptive::{OrientationModel, Proprioceptive, ProprioceptiveSettings};
+pub use proprioceptive::{
+    MIN_NOISE_POSES, MIN_ORIENTATION_SIGMA, MIN_POSITION_SIGMA, NoiseSource, OrientationModel,
+    PathNoise, Proprioceptive, ProprioceptiveSettings, path_noise,
+};
 pub use screw::Screw;
 pub use two_view::{TwoView, TwoViewSettings};
 pub use uncertainty::{CHI2_2DOF_95, PlaneCovariance, Uncertainty};

@@ -112,6 +112,26 @@ pub struct Discovery {
 ///    estimate that turned less than `rotation_threshold` while every attempt that moved the
 ///    part saw it slide is registered as the slide along the chord its contact moved (a turn
 ///    that small about an axis metres away is a translation; the log keeps the estimate).
+///
+///    **Keep pulling until confident** (beyond the paper's Algorithm 1): the estimate has a
+///    doubt ([`Doubt`](super::Doubt)) when its axis's 95 % half-angle exceeds
+///    `confident_axis_95`, a revolute pivot's 95 % radius exceeds `confident_pivot_95`, its
+///    type probability is below `confident_type_probability`, or it carries no uncertainty
+///    (an unknown joint). While it has one, up to `max_extra_pulls` times, the robot pulls
+///    further: LocalNavTo back to the last successful attempt's base pose, a new `o_pre`
+///    (DetectFailure's reference), a grasp at the last contact along the last tracked
+///    normal, pull steps until the contact is `extra_pull` from that grasp (the same
+///    DetectFailure and GetComplianceAction), retract, then step 5 and this step again on
+///    all the motion so far (the new grasp's poses stitched like a retry's). Pulling stops
+///    when the estimate is confident, when the part (or the arm) reached a limit
+///    (`JointLimit` from the first attempts or a further pull), when a further pull fails
+///    otherwise, or after `max_extra_pulls`; [`HandleLog::pulling`](super::HandleLog) says
+///    which ([`PullEnd`](super::PullEnd)), with the doubts left, and the estimate log the
+///    uncertainty it stopped at. The most confident estimate is kept (the least largest ratio
+///    of a region to its limit): when a further pull made the estimate worse (a view the
+///    estimator could not use), the earlier one is kept with its opening re-measured to the
+///    last contact (the angle about its axis, the distance along it), and the log notes it.
+///    The checks above apply to the kept estimate.
 /// 7. **Register**: the joint from the estimate, oriented so that the observed opening is
 ///    positive — revolute: the axis through the foot of the perpendicular from the contact
 ///    onto the estimated axis; prismatic: the axis through the contact. An axis within

@@ -24,10 +24,13 @@ pub(crate) struct AttemptInput<'a> {
     pub normal: Unit<Vector3<f64>>,
     /// The base pose the attempt is made from.
     pub world_from_base: Isometry2<f64>,
-    /// The handle's first grasp point in an earlier attempt, if any: `target_pull` and
+    /// The handle's first grasp point in an earlier attempt, if any: `target` and
     /// `sufficient_pull` count the contact's distance from it (the opening so far), not from
     /// this attempt's grasp.
     pub first_grasp: Option<Point3<f64>>,
+    /// The attempt succeeds once the contact is this far (m) from `first_grasp` (or this
+    /// attempt's grasp): `target_pull`, or `extra_pull` for a further pull.
+    pub target: f64,
 }
 
 /// What one attempt produced.
@@ -164,6 +167,8 @@ struct Pull {
     last_normal: Option<Unit<Vector3<f64>>>,
     /// The last mean displacement of the observation near the contact.
     displacement: f64,
+    /// The pull succeeds once the contact is this far (m) from `origin`.
+    target: f64,
 }
 
 impl Pull {
@@ -180,6 +185,7 @@ impl Pull {
             first_normal: None,
             last_normal: None,
             displacement: 0.0,
+            target: input.target,
         }
     }
 
@@ -208,7 +214,7 @@ impl Pull {
         let near = neighbourhood(&o_obs.points, &self.contact, s.displacement_radius);
         self.displacement = mean_nearest_distance(&near, pre_index).unwrap_or(0.0);
         log.displacement = Some(self.displacement);
-        if (self.contact - self.origin).norm() >= s.target_pull {
+        if (self.contact - self.origin).norm() >= self.target {
             return Ok(Some(AttemptEnd::Success));
         }
         if i > s.stall_steps && self.displacement < s.displacement_threshold {

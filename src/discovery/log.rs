@@ -6,6 +6,8 @@ use nalgebra::{Isometry2, Point3, Vector3};
 use serde::{Deserialize, Serialize};
 
 use super::interface::HardwareFailure;
+#[cfg(doc)]
+use crate::articulation::Uncertainty;
 use crate::articulation::{Estimate, JointEstimate};
 
 /// The stages a handle passes through, in order. A failure is attributed to the stage it
@@ -151,11 +153,21 @@ pub struct EstimateLog {
     pub score: f64,
     /// Model-selection details.
     pub details: String,
+    /// The 95 % confidence half-angle of the axis (rad,
+    /// [`Uncertainty::axis_half_angle_95`]), if the estimate carries an uncertainty.
+    pub axis_half_angle_95: Option<f64>,
+    /// The 95 % pivot radius (m, [`Uncertainty::pivot_radius_95`]) of a revolute estimate
+    /// with an uncertainty.
+    pub pivot_radius_95: Option<f64>,
+    /// The probability of the estimated joint type ([`Uncertainty::type_probability`]), if
+    /// the estimate carries an uncertainty.
+    pub type_probability: Option<f64>,
 }
 
 impl EstimateLog {
     /// The log entry of `estimate` by `estimator`.
     pub fn new(estimator: &str, estimate: &Estimate) -> Self {
+        let u = estimate.uncertainty.as_ref();
         let (kind, axis, pivot, motion, reason) = match &estimate.joint {
             JointEstimate::Revolute { axis, pivot, angle } => (
                 "revolute",
@@ -186,6 +198,9 @@ impl EstimateLog {
             part_points: estimate.part_points.len(),
             score: estimate.score,
             details: estimate.details.clone(),
+            axis_half_angle_95: u.map(|u| u.axis_half_angle_95()),
+            pivot_radius_95: u.and_then(|u| u.pivot_radius_95()),
+            type_probability: u.map(|u| u.type_probability),
         }
     }
 }
@@ -206,8 +221,11 @@ pub struct HandleLog {
     /// Distance (m) from the first grasp point to the last contact: how far the handle was
     /// pulled over all attempts.
     pub pull_distance: f64,
-    /// The estimate, if the estimator ran.
+    /// The last estimate, if the estimator ran (the one the part was registered from).
     pub estimate: Option<EstimateLog>,
+    /// How the keep-pulling loop ended (see [`discover`](super::discover), step 6), if the
+    /// estimator ran.
+    pub pulling: Option<PullingLog>,
     /// Notes on degraded but non-fatal steps (a fallback segmentation, a skipped step back).
     pub notes: Vec<String>,
 }
@@ -225,4 +243,68 @@ impl HandleLog {
     pub fn succeeded(&self) -> bool {
         matches!(self.outcome, Exploration::Registered { .. })
     }
+}
+
+/// Why the keep-pulling loop ([`discover`](super::discover), step 6) stopped pulling a handle.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum PullEnd {
+    /// The estimate's uncertainty is within the settings' limits.
+    Confident,
+    /// The part, or the arm holding it, reached a limit ([`HardwareFailure::JointLimit`]):
+    /// no more motion to be had.
+    JointLimit,
+    /// A further pull failed otherwise (its attempt's end).
+    Failure {
+        /// How the last further pull ended.
+        end: AttemptEnd,
+    },
+    /// `max_extra_pulls` further pulls were made and the estimate is still not confident.
+    Budget,
+}
+
+/// A confidence limit the estimate does not meet.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Doubt {
+    /// The estimate carries no uncertainty (an unknown joint, or a singular fit).
+    NoUncertainty,
+    /// The axis's 95 % half-angle (rad) exceeds `confident_axis_95`.
+    Axis {
+        /// The half-angle (rad).
+        half_angle_95: f64,
+        /// The limit (rad).
+        limit: f64,
+    },
+    /// The pivot's 95 % radius (m) exceeds `confident_pivot_95`.
+    Pivot {
+        /// The radius (m).
+        radius_95: f64,
+        /// The limit (m).
+        limit: f64,
+    },
+    /// The joint type's probability is below `confident_type_probability`: the models nearly
+    /// tie (or a check other than the evidence chose the type).
+    Type {
+        /// The probability.
+        probability: f64,
+        /// The limit.
+        limit: f64,
+    },
+}
+
+/// The keep-pulling loop of one handle: why it stopped, how many further pulls it made, and
+/// the limits the kept estimate does not meet (empty when confident).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PullingLog {
+    /// Why pulling stopped.
+    pub end: PullEnd,
+    /// Further pulls (grasp at the last contact and pull on) after the first successful
+    /// attempt, each followed by a new post-interaction observation and estimate.
+    pub extra_pulls: usize,
+    /// After how many further pulls the kept estimate was made: the most confident one
+    /// (`extra_pulls` unless a later view made the estimate worse; then the kept one's opening
+    /// is re-measured to the last contact, and the log notes it).
+    pub estimate_round: usize,
+    /// The limits the kept estimate does not meet; its uncertainty is in
+    /// [`HandleLog::estimate`].
+    pub doubts: Vec<Doubt>,
 }

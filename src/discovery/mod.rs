@@ -92,7 +92,10 @@ pub use interface::{
     Camera, HandleDetection, Hardware, HardwareFailure, LocalGoal, Perception, PointCloud, Robot,
     SensorFailure, Split,
 };
-pub use log::{AttemptEnd, AttemptLog, EstimateLog, Exploration, HandleLog, MotionClass, Stage};
+pub use log::{
+    AttemptEnd, AttemptLog, Doubt, EstimateLog, Exploration, HandleLog, MotionClass, PullEnd,
+    PullingLog, Stage,
+};
 pub use reconcile::{BoxCut, CUTS, Conflict, Observation, Reconciliation, reconcile};
 pub use registration::{
     Attachment, Registration, RegistrationSettings, Rejection, register_handles,

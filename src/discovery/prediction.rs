@@ -12,30 +12,23 @@ use crate::articulation::{Estimate, Interaction, JointEstimate};
 use crate::scene::{JointAxis, JointKind};
 
 impl Run<'_> {
-    /// PredArticulation on the end-effector path of one grasp (later grasps stitched into the
-    /// first's frame), logged in `entry`; an unknown joint or one that contradicts the
-    /// rotation the exploration saw fails estimation, and a tiny turn seen as a slide becomes
-    /// the slide.
-    pub(super) fn predict(
+    /// PredArticulation on the end-effector path of one grasp (later grasps stitched, in a
+    /// copy, into the first's frame), logged in `entry` (the last estimate stays).
+    pub(super) fn estimate(
         &self,
         entry: &mut HandleLog,
         index: usize,
-        pulled: &mut Pulled,
+        pulled: &Pulled,
         o_post: &PointCloud,
     ) -> Result<Estimate, Stop> {
-        if pulled.segments.len() > 1 {
-            stitch_grasps(&mut pulled.ee_poses, &pulled.segments);
-            entry.notes.push(format!(
-                "end-effector poses of {} grasps stitched into the first grasp's frame",
-                pulled.segments.len()
-            ));
-        }
+        let mut ee_poses = pulled.ee_poses.clone();
+        stitch_grasps(&mut ee_poses, &pulled.segments);
         let interaction = Interaction {
             pre: &pulled.o_first,
             post: o_post,
             contact_pre: pulled.contact_pre,
             contact_post: pulled.contact_post,
-            ee_poses: &pulled.ee_poses,
+            ee_poses: &ee_poses,
         };
         let estimate =
             self.estimator
@@ -46,13 +39,30 @@ impl Run<'_> {
                     source,
                 })?;
         entry.estimate = Some(EstimateLog::new(self.estimator.name(), &estimate));
+        Ok(estimate)
+    }
+
+    /// The checks on the final estimate: an unknown joint or one that contradicts the
+    /// rotation the exploration saw fails estimation, and a tiny turn seen as a slide becomes
+    /// the slide (noted in `entry`).
+    pub(super) fn checked(
+        &self,
+        entry: &mut HandleLog,
+        pulled: &Pulled,
+        mut estimate: Estimate,
+    ) -> Result<Estimate, Stop> {
+        if pulled.segments.len() > 1 {
+            entry.notes.push(format!(
+                "end-effector poses of {} grasps stitched into the first grasp's frame",
+                pulled.segments.len()
+            ));
+        }
         if let JointEstimate::Unknown { reason } = &estimate.joint {
             return fail(Stage::Estimation, format!("estimator: {reason}"));
         }
         if let Some(reason) = contradicts_motion(&estimate.joint, &entry.attempts) {
             return fail(Stage::Estimation, reason);
         }
-        let mut estimate = estimate;
         if let Some((slide, note)) = small_turn_as_slide(
             &estimate.joint,
             &entry.attempts,

@@ -5,6 +5,8 @@ use serde::{Deserialize, Serialize};
 use super::error::{DiscoveryError, check_nonneg, check_positive, check_range};
 use super::interface::Camera;
 use crate::InvalidSetting;
+#[cfg(doc)]
+use crate::articulation::Uncertainty;
 use crate::scene::collision::SweepSettings;
 
 /// Settings of [`discover`](super::discover). SI units; defaults are for a Stretch/Gen3-sized
@@ -63,6 +65,27 @@ pub struct DiscoverySettings {
     /// Weight of the surface normal against the end effector's last motion direction in the
     /// pull direction, in [0, 1] (see [`discover`](super::discover)). Default 0.7.
     pub surface_weight: f64,
+    // --- Keep pulling until confident ---
+    /// The estimate is confident when its axis's 95 % half-angle
+    /// ([`Uncertainty::axis_half_angle_95`]) is at most this (rad); otherwise the robot
+    /// pulls further (see [`discover`](super::discover), step 6). Default 4° (0.0698 rad):
+    /// the estimators' target is a mean axis error of 2°, and the error of a 2-d Gaussian
+    /// estimate has mean `σ √(π/2) = 1.25 σ` and 95 % radius `√5.99 σ = 2.45 σ`, about twice
+    /// the mean.
+    pub confident_axis_95: f64,
+    /// ... and, for a revolute estimate, its pivot's 95 % radius
+    /// ([`Uncertainty::pivot_radius_95`]) at most this (m). Default 0.04: twice the 2 cm
+    /// mean pivot target, as above.
+    pub confident_pivot_95: f64,
+    /// ... and its joint type's probability ([`Uncertainty::type_probability`]) at least
+    /// this, in [0.5, 1]. Default 0.99.
+    pub confident_type_probability: f64,
+    /// How far (m) the contact moves in one further pull (from the grasp at the last
+    /// contact). Default 0.15.
+    pub extra_pull: f64,
+    /// Largest number of further pulls per handle; 0 turns the loop off (the paper's
+    /// Algorithm 1). Default 3.
+    pub max_extra_pulls: usize,
     // --- DetectFailure ---
     /// Radius (m) around the contact of the points compared with the pre-interaction
     /// observation. Default 0.15.
@@ -168,6 +191,11 @@ impl Default for DiscoverySettings {
             displacement_cap: 0.1,
             stall_steps: 5,
             sufficient_pull: 0.12,
+            confident_axis_95: 4f64.to_radians(),
+            confident_pivot_95: 0.04,
+            confident_type_probability: 0.99,
+            extra_pull: 0.15,
+            max_extra_pulls: 3,
             rotation_threshold: 0.14,
             translation_threshold: 0.02,
             reposition_distance: 0.3,
@@ -208,6 +236,9 @@ impl DiscoverySettings {
             ("displacement_threshold", self.displacement_threshold),
             ("displacement_cap", self.displacement_cap),
             ("sufficient_pull", self.sufficient_pull),
+            ("confident_axis_95", self.confident_axis_95),
+            ("confident_pivot_95", self.confident_pivot_95),
+            ("extra_pull", self.extra_pull),
             ("rotation_threshold", self.rotation_threshold),
             ("translation_threshold", self.translation_threshold),
             ("reposition_distance", self.reposition_distance),
@@ -227,6 +258,13 @@ impl DiscoverySettings {
             check_nonneg(name, v)?;
         }
         check_range("surface_weight", self.surface_weight, 0.0, 1.0, "in [0, 1]")?;
+        check_range(
+            "confident_type_probability",
+            self.confident_type_probability,
+            0.5,
+            1.0,
+            "in [0.5, 1]",
+        )?;
         check_range("box_trim", self.box_trim, 0.0, 0.49, "in [0, 0.49]")?;
         check_range(
             "axis_snap",

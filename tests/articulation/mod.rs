@@ -17,8 +17,9 @@ mod tables;
 use kinscene::articulation::synthetic::{DepthCamera, DepthNoise, SyntheticBox, render};
 use kinscene::articulation::{
     ArticulationError, ArticulationEstimator, Estimate, InputKind, Interaction, JointEstimate,
-    JointKindEstimate, OrientationModel, PointCloud, Proprioceptive, ProprioceptiveSettings, Screw,
-    TwoView, TwoViewSettings, axis_angle_error, axis_position_error, joint_type_accuracy,
+    JointKindEstimate, MIN_NOISE_POSES, NoiseSource, OrientationModel, PointCloud, Proprioceptive,
+    ProprioceptiveSettings, Screw, TwoView, TwoViewSettings, axis_angle_error, axis_position_error,
+    joint_type_accuracy, path_noise,
 };
 use nalgebra::{Isometry3, Point3, Translation3, Unit, UnitQuaternion, Vector3};
 use rand::{Rng, SeedableRng};

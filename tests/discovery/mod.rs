@@ -2,6 +2,7 @@
 //! kinematic test world built from ground-truth scene models.
 
 mod algorithm;
+mod confident;
 mod mapping;
 mod scenes;
 mod world;

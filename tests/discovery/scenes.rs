@@ -60,6 +60,36 @@ pub fn door_cabinet() -> SceneModel {
     b.build().expect("door cabinet builds")
 }
 
+/// The cabinet with a small (0.25 m wide) left-hinged door, hinged like [`door_cabinet`]'s
+/// (pivot [`DOOR_PIVOT`], axis [`DOOR_AXIS`]): a 0.25 × 0.02 × 0.70 slab (world x in
+/// [0.005, 0.255], y in [-0.02, 0], z in [0.05, 0.75]); handle 5.5 cm from the free edge,
+/// 3 cm proud, at world (0.2, -0.05, 0.45), 0.195 m from the hinge line horizontally (radius
+/// of its arc: √(0.195² + 0.03²) = 0.197 m); limits [0, 1.9].
+pub fn small_door_cabinet() -> SceneModel {
+    let mut b = cabinet_base();
+    b.add_part(
+        PartSpec::on_base(
+            "door",
+            Joint::revolute(
+                "door_hinge",
+                Point3::from(DOOR_PIVOT),
+                Vector3::from(DOOR_AXIS),
+                Limits::new(0.0, 1.9),
+            ),
+        )
+        .with_collider(
+            Shape::cuboid(Vector3::new(0.125, 0.01, 0.35)),
+            Isometry3::translation(0.125, 0.01, 0.35),
+        )
+        .with_handle(Handle::new(
+            "door_handle",
+            Point3::new(0.195, -0.03, 0.4),
+            -Vector3::y(),
+        )),
+    );
+    b.build().expect("small door cabinet builds")
+}
+
 /// The drawer's true axis (world): -y, out of the carcass towards the robot.
 pub const DRAWER_AXIS: [f64; 3] = [0.0, -1.0, 0.0];
 

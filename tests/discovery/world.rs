@@ -40,6 +40,10 @@ pub struct WorldSettings {
     pub head_rays: (usize, usize),
     /// Robot radius for the navigation check (m).
     pub robot_radius: f64,
+    /// Noise of the reported end-effector poses (grasp and pull steps): position σ per axis
+    /// (m) and orientation σ per axis of a small rotation vector (rad). The true pose is
+    /// unaffected. Default 0: exact poses.
+    pub pose_noise: (f64, f64),
 }
 
 impl Default for WorldSettings {
@@ -53,6 +57,7 @@ impl Default for WorldSettings {
             head_height: 1.3,
             head_rays: (180, 150),
             robot_radius: 0.25,
+            pose_noise: (0.0, 0.0),
         }
     }
 }
@@ -166,6 +171,21 @@ impl World {
         let u1: f64 = self.rng.random::<f64>().max(1e-300);
         let u2: f64 = self.rng.random::<f64>();
         (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
+    }
+
+    /// `pose` as the arm reports it: with `pose_noise` (no random draw when it is zero, so
+    /// that noise-free worlds keep their sequences).
+    fn reported(&mut self, pose: Isometry3<f64>) -> Isometry3<f64> {
+        let (sp, so) = self.settings.pose_noise;
+        if sp == 0.0 && so == 0.0 {
+            return pose;
+        }
+        let dp = Vector3::new(self.gaussian(), self.gaussian(), self.gaussian()) * sp;
+        let dr = Vector3::new(self.gaussian(), self.gaussian(), self.gaussian()) * so;
+        Isometry3::from_parts(
+            (pose.translation.vector + dp).into(),
+            UnitQuaternion::from_scaled_axis(dr) * pose.rotation,
+        )
     }
 
     /// Ray-casts a grid of rays from `origin`; each direction from `dirs`.
@@ -404,7 +424,7 @@ impl Hardware for World {
             }
             Held::Fixed => Held::Fixed,
         });
-        Ok(ee)
+        Ok(self.reported(ee))
     }
 
     fn pull_step(
@@ -455,7 +475,7 @@ impl Hardware for World {
             return Err(HardwareFailure::SelfCollision);
         }
         self.ee = ee;
-        Ok(ee)
+        Ok(self.reported(ee))
     }
 
     fn retract(&mut self) -> Result<(), HardwareFailure> {

@@ -9,11 +9,12 @@ use rand_chacha::ChaCha8Rng;
 
 #[cfg(doc)]
 use super::OrientationModel;
-use super::ProprioceptiveSettings;
 use super::likelihood::Likelihood;
 use super::model::{Model, circle_through, line_through};
+use super::noise::{MIN_ORIENTATION_SIGMA, MIN_POSITION_SIGMA, path_noise};
 use super::refine::{refine_circle, refine_line};
 use super::uncertainty::uncertainty;
+use super::{NoiseSource, ProprioceptiveSettings};
 use crate::articulation::estimate::{Estimate, JointEstimate, unit_score};
 use crate::articulation::uncertainty::bic_probability;
 
@@ -28,6 +29,9 @@ struct Fit {
 
 /// Sturm et al. (2011), Sec. 3, restricted to the two joint models:
 ///
+/// 0. The noise levels σ_p, σ_o below are the settings' or, with [`NoiseSource::FromPath`]
+///    estimated from the path's smoothness
+///    ([`path_noise`](crate::articulation::path_noise)).
 /// 1. For each model, MLESAC: `iterations` hypotheses from random minimal sets (2 positions for
 ///    a line, 3 for a circle; the first sample's orientation fixes the grasp offset), each scored
 ///    by the log-likelihood of a Gaussian-inlier / uniform-outlier mixture whose weight is found
@@ -54,6 +58,8 @@ pub(super) fn estimate(
     ee_poses: &[(f64, Isometry3<f64>)],
     contact_pre: Option<Point3<f64>>,
 ) -> Estimate {
+    let (s, noise_note) = with_noise(s, ee_poses);
+    let s = &s;
     let poses: Vec<Isometry3<f64>> = ee_poses.iter().map(|(_, p)| *p).collect();
     let n = poses.len();
     let positions = match check_motion(s, &poses) {
@@ -64,7 +70,7 @@ pub(super) fn estimate(
     let Some(best) = fits.iter().min_by(|a, b| a.bic.total_cmp(&b.bic)) else {
         return Estimate::unknown("no model hypothesis could be formed (degenerate positions)");
     };
-    let mut details = format!("proprioceptive: {}", summary(&fits, n));
+    let mut details = format!("proprioceptive: {}; {noise_note}", summary(&fits, n));
     let inl: Vec<usize> = (0..n).filter(|&k| best.inliers[k]).collect();
     if inl.len() * 2 < n || inl.len() < 2 {
         return Estimate {
@@ -102,6 +108,33 @@ pub(super) fn estimate(
         score,
         details,
         uncertainty,
+    }
+}
+
+/// The settings with the noise levels the fits use ([`NoiseSource`]), and a note for the
+/// details saying which.
+fn with_noise(
+    s: &ProprioceptiveSettings,
+    ee_poses: &[(f64, Isometry3<f64>)],
+) -> (ProprioceptiveSettings, String) {
+    let estimated = match s.noise {
+        NoiseSource::Settings => None,
+        NoiseSource::FromPath => path_noise(ee_poses),
+    };
+    match estimated {
+        Some(n) => {
+            let out = ProprioceptiveSettings {
+                position_sigma: n.position.max(MIN_POSITION_SIGMA),
+                orientation_sigma: n.orientation.max(MIN_ORIENTATION_SIGMA),
+                ..s.clone()
+            };
+            let note = format!(
+                "noise from the path: position {:.4} m, orientation {:.4} rad",
+                n.position, n.orientation
+            );
+            (out, note)
+        }
+        None => (s.clone(), "noise from the settings".to_string()),
     }
 }
 

@@ -4,6 +4,7 @@
 mod estimate;
 mod likelihood;
 mod model;
+mod noise;
 mod refine;
 mod settings;
 mod uncertainty;
@@ -13,7 +14,10 @@ use nalgebra::Isometry3;
 
 use super::estimate::{ArticulationEstimator, Estimate, Interaction, validate_ee_poses};
 use estimate::estimate;
-pub use settings::{OrientationModel, ProprioceptiveSettings};
+pub use noise::{
+    MIN_NOISE_POSES, MIN_ORIENTATION_SIGMA, MIN_POSITION_SIGMA, PathNoise, path_noise,
+};
+pub use settings::{NoiseSource, OrientationModel, ProprioceptiveSettings};
 
 /// The proprioceptive estimator (see the module docs of [`super`]).
 #[derive(Debug, Clone, Default, PartialEq)]

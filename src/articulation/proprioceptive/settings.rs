@@ -11,10 +11,14 @@ use crate::articulation::error::ArticulationError;
 /// Settings of [`Proprioceptive`]. Lengths in metres, angles in radians.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ProprioceptiveSettings {
-    /// Standard deviation of end-effector position noise (inlier model).
+    /// Standard deviation of end-effector position noise (inlier model), per axis (m); with
+    /// [`NoiseSource::FromPath`] only for paths too short to estimate it from.
     pub position_sigma: f64,
-    /// Standard deviation of end-effector orientation noise (inlier model).
+    /// Standard deviation of end-effector orientation noise (inlier model), per axis (rad);
+    /// with [`NoiseSource::FromPath`] only for paths too short to estimate it from.
     pub orientation_sigma: f64,
+    /// Where the fits' noise levels come from.
+    pub noise: NoiseSource,
     /// How much of the end effector's orientation follows the part (a revolute joint turns a
     /// held end effector by the joint angle; a prismatic one does not turn it).
     pub orientation: OrientationModel,
@@ -28,6 +32,23 @@ pub struct ProprioceptiveSettings {
     pub min_poses: usize,
     /// Positions spanning less than this give `Unknown`.
     pub min_motion: f64,
+}
+
+/// Where the proprioceptive fits' noise levels come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum NoiseSource {
+    /// `position_sigma` and `orientation_sigma` as set. The default, for now: with
+    /// [`OrientationModel::Rigid`] under a compliant grasp the approach-axis noise estimate
+    /// is far below the free roll, and every pose becomes an outlier (measured in
+    /// `tests/articulation/proprioceptive.rs`); the calibration tests are measured with it.
+    #[default]
+    Settings,
+    /// Estimated from the path's smoothness ([`path_noise`](crate::articulation::path_noise)),
+    /// at least [`MIN_POSITION_SIGMA`](crate::articulation::MIN_POSITION_SIGMA) and
+    /// [`MIN_ORIENTATION_SIGMA`](crate::articulation::MIN_ORIENTATION_SIGMA); the settings'
+    /// values for a path of fewer than
+    /// [`MIN_NOISE_POSES`](crate::articulation::MIN_NOISE_POSES) poses.
+    FromPath,
 }
 
 /// Which part of the recorded end-effector orientations the estimator trusts to follow the part.
@@ -72,6 +93,7 @@ impl Default for ProprioceptiveSettings {
         ProprioceptiveSettings {
             position_sigma: 0.005,
             orientation_sigma: 0.05,
+            noise: NoiseSource::Settings,
             orientation: OrientationModel::ApproachAxis,
             outlier_range: 0.5,
             iterations: 200,

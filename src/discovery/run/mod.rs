@@ -2,7 +2,7 @@
 //! Reposition, the post-interaction observation, PredArticulation and the part to register.
 //! The rules are documented on [`discover`](super::discover).
 
-use nalgebra::{Isometry3, Point3, Unit, Vector2, Vector3};
+use nalgebra::{Isometry2, Isometry3, Point3, Unit, Vector2, Vector3};
 
 use super::error::{DiscoveryError, check_finite};
 use super::explore::{checked_cloud, surface_normal};
@@ -15,6 +15,7 @@ use super::settings::DiscoverySettings;
 use crate::articulation::ArticulationEstimator;
 use crate::scene::{SceneModel, State};
 
+mod confident;
 mod pull;
 
 use pull::pulled;
@@ -57,13 +58,17 @@ pub(super) fn fail<T>(stage: Stage, reason: impl Into<String>) -> Result<T, Stop
 }
 
 /// A successful exploration: the first grasp's pre-interaction observation and contact, the
-/// last contact, the end-effector poses and where each grasp's poses begin.
+/// last contact, the end-effector poses (as recorded, not stitched) and where each grasp's
+/// poses begin; the last successful attempt's base pose and last tracked normal (where a
+/// further pull starts from).
 pub(super) struct Pulled {
     pub(super) o_first: PointCloud,
     pub(super) contact_pre: Point3<f64>,
     pub(super) contact_post: Point3<f64>,
     pub(super) ee_poses: Vec<(f64, Isometry3<f64>)>,
     pub(super) segments: Vec<usize>,
+    pub(super) base: Isometry2<f64>,
+    pub(super) normal: Unit<Vector3<f64>>,
 }
 
 impl Run<'_> {
@@ -87,6 +92,7 @@ impl Run<'_> {
             attempts: Vec::new(),
             pull_distance: 0.0,
             estimate: None,
+            pulling: None,
             notes: Vec::new(),
         };
         match self.explore(&mut entry, index, h, model, state, free) {
@@ -134,15 +140,10 @@ impl Run<'_> {
         // The exploratory interaction, with Reposition between attempts.
         let attempts = self.attempts(entry, index, p, normal, b_pre, free)?;
         let mut pulled = pulled(entry, attempts)?;
-        // Step back, o_post.
-        self.step_back(entry, &p, &dir, pulled.contact_post, free);
-        let o_post = self.observe(
-            Stage::Estimation,
-            "post-interaction observation",
-            "post-interaction",
-        )?;
-        // PredArticulation, on the end-effector path of one grasp.
-        let estimate = self.predict(entry, index, &mut pulled, &o_post)?;
+        // Step back, o_post, PredArticulation; pull further until confident.
+        let (estimate, o_post) =
+            self.estimate_until_confident(entry, index, &p, &dir, &mut pulled, free)?;
+        let estimate = self.checked(entry, &pulled, estimate)?;
         // Register.
         let observed = Observed {
             pre: &pulled.o_first,

@@ -13,14 +13,16 @@ use crate::discovery::settings::DiscoverySettings;
 use super::{Near, Pulled, Run, Stop, fail};
 
 /// What the attempts left: the first grasp's pre-interaction observation and contact, the
-/// last contact, the end-effector poses, where each grasp's poses begin, and whether the last
-/// attempt succeeded.
+/// last contact, the end-effector poses, where each grasp's poses begin, whether the last
+/// attempt succeeded, and its base pose and last tracked normal.
 pub(super) struct Attempts {
     first: Option<(PointCloud, Point3<f64>)>,
     contact_post: Option<Point3<f64>>,
     ee_poses: Vec<(f64, Isometry3<f64>)>,
     segments: Vec<usize>,
     success: bool,
+    base: Isometry2<f64>,
+    normal: Unit<Vector3<f64>>,
 }
 
 impl Run<'_> {
@@ -47,6 +49,8 @@ impl Run<'_> {
             ee_poses: Vec::new(),
             segments: Vec::new(),
             success: false,
+            base: b_pre,
+            normal,
         };
         // Whether the last attempt's gripper closed where the handle was not.
         let mut missed = false;
@@ -81,6 +85,7 @@ impl Run<'_> {
                 normal: hot_normal,
                 world_from_base: b_pre,
                 first_grasp: out.first.as_ref().map(|(_, g)| *g),
+                target: s.target_pull,
             };
             let seg = out.ee_poses.len();
             let result = attempt(&mut *self.robot, s, &input, &mut out.ee_poses)?;
@@ -95,6 +100,8 @@ impl Run<'_> {
                 out.contact_post = Some(c);
             }
             hot_normal = result.normal;
+            out.normal = result.normal;
+            out.base = b_pre;
             missed = matches!(
                 result.log.end,
                 AttemptEnd::Grasp {
@@ -235,11 +242,13 @@ pub(super) fn pulled(entry: &mut HandleLog, attempts: Attempts) -> Result<Pulled
         contact_post,
         ee_poses: attempts.ee_poses,
         segments: attempts.segments,
+        base: attempts.base,
+        normal: attempts.normal,
     })
 }
 
 /// The log entry of an attempt that did not get to the grasp.
-fn skipped(world_from_base: Isometry2<f64>, end: AttemptEnd) -> AttemptLog {
+pub(super) fn skipped(world_from_base: Isometry2<f64>, end: AttemptEnd) -> AttemptLog {
     AttemptLog {
         world_from_base,
         steps: 0,

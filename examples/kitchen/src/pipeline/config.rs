@@ -239,7 +239,10 @@ pub struct Config {
 ///   0.85–1.0 m lies 0.85–1.0 m from the nominal pose;
 /// - `nest_margin` 0.03 m (default 0.05): neighbouring fronts' handles stand 4.3 cm from the
 ///   edge of the next front (corner door A's handle next to the top drawer), so 5 cm carried
-///   them along with a neighbour explored before them.
+///   them along with a neighbour explored before them;
+/// - `max_extra_pulls` 0 (default 3): the paper's Algorithm 1, without the keep-pulling loop,
+///   so that Table II and Fig. 5 stay the measured ones until they are re-measured with it
+///   (a further pull opens a front wider, which changes what later handles' paths meet).
 ///
 /// Measured (`--quick --experiments fig5,fig6`, seed 1): 7 of the 10 mapped handles
 /// registered, the sink door among them; with PlanBase's earlier rule (the free pose nearest
@@ -250,6 +253,7 @@ pub fn kitchen_discovery_settings() -> DiscoverySettings {
         approach_distance: 1.0,
         base_search_radius: 1.0,
         nest_margin: 0.03,
+        max_extra_pulls: 0,
         ..DiscoverySettings::default()
     }
 }
