@@ -7,10 +7,9 @@
 use std::path::PathBuf;
 
 use kinscene::kinematics::robot::RobotModel;
-use kinscene::planner::{HierarchicalPlanner, MotionOutcome, PlannerSettings};
-use kinscene::task::Termination;
+use kinscene::planner::{HierarchicalPlanner, PlannerSettings};
 
-use super::contact::{RobotGeometry, recheck_robot};
+use super::contact::{RobotGeometry, recheck_robot, solve_with};
 
 /// The shipped Gen3 URDF with `odom → base_x → base_y → base_yaw → base_link`, written next to
 /// a description that points at it and at the shipped SRDF; the description's path.
@@ -65,16 +64,7 @@ fn a_base_modelled_as_joints_plans_the_drawer_and_the_plan_rechecks() {
         &model,
         "[goal]\ndrawer_slide = { min = 0.25 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
     );
-    let result = planner
-        .plan(
-            &model,
-            &problem,
-            &Termination::after(std::time::Duration::from_secs(120)),
-        )
-        .expect("valid input");
-    let MotionOutcome::Solved(plan) = result.outcome else {
-        panic!("expected a plan, got {:?}", result.outcome);
-    };
+    let (planner, plan) = solve_with(planner, &model, &problem);
     let geometry = RobotGeometry {
         urdf,
         frozen: ["base_x", "base_y", "base_yaw"]

@@ -933,7 +933,15 @@ pub(super) fn recheck_robot(
 /// Plans `problem` with the shipped robot and default settings (120 s budget); panics unless
 /// solved.
 pub(super) fn solve(model: &SceneModel, problem: &Problem) -> (HierarchicalPlanner, MotionPlan) {
-    let planner = super::planner();
+    solve_with(super::planner(), model, problem)
+}
+
+/// [`solve`] with `planner`.
+pub(super) fn solve_with(
+    planner: HierarchicalPlanner,
+    model: &SceneModel,
+    problem: &Problem,
+) -> (HierarchicalPlanner, MotionPlan) {
     let result = planner
         .plan(
             model,

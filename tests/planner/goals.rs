@@ -9,7 +9,7 @@ use kinscene::scene::SceneModel;
 use kinscene::scene::urdf::{ImportOptions, read_file};
 use kinscene::task::Problem;
 
-use super::contact::{recheck, solve};
+use super::contact::{recheck, solve, solve_with};
 
 fn scenes() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/scenes")
@@ -68,8 +68,7 @@ fn an_oven_door_opens_flat_with_the_gen3() {
 #[test]
 fn an_approach_cone_keeps_the_tool_within_it_and_the_contact_rule() {
     use kinscene::kinematics::robot::{RobotConfig, RobotModel};
-    use kinscene::planner::{HierarchicalPlanner, MotionOutcome, PlannerSettings};
-    use kinscene::task::Termination;
+    use kinscene::planner::{HierarchicalPlanner, PlannerSettings};
     use nalgebra::{DVector, Vector3};
 
     let mut settings = PlannerSettings::default();
@@ -82,16 +81,7 @@ fn an_approach_cone_keeps_the_tool_within_it_and_the_contact_rule() {
         &model,
         "[goal]\ndrawer_slide = { min = 0.25 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
     );
-    let result = planner
-        .plan(
-            &model,
-            &problem,
-            &Termination::after(std::time::Duration::from_secs(120)),
-        )
-        .expect("valid input");
-    let MotionOutcome::Solved(plan) = result.outcome else {
-        panic!("expected a plan, got {:?}", result.outcome);
-    };
+    let (planner, plan) = solve_with(planner, &model, &problem);
     let mut largest: f64 = 0.0;
     for step in &plan.steps {
         for q in &step.manipulation.positions {
