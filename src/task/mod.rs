@@ -156,6 +156,7 @@ mod reach;
 mod refine;
 mod search;
 mod settings;
+mod shortfall;
 mod start;
 mod validate;
 

@@ -214,27 +214,8 @@ pub(super) fn infeasibility(
             cause,
         });
     }
-    // The moves into the unreached targets were pruned by their bound without a check: the
-    // direct move from the start (the first node closed), when it has no base pose.
-    if let (true, Some(start)) = (conflicts.is_empty(), nodes.first().map(|n| &n.key)) {
-        for j in &unreached {
-            let Some(i) = problem.goal.target(*j) else {
-                continue;
-            };
-            let from = lattice.values(*j)[start[j.index()] as usize];
-            let Some(to) = lattice.index_of(*j, i.nearest(from)) else {
-                continue;
-            };
-            let to = to as u16;
-            if let Some(cause) = checker.no_base_pose(caches, data, start, *j, to)? {
-                conflicts.push(Failure {
-                    joint: model.joints()[j.index()].name.clone(),
-                    from,
-                    to: lattice.values(*j)[to as usize],
-                    cause,
-                });
-            }
-        }
+    if conflicts.is_empty() {
+        conflicts = pruned_conflicts(model, problem, checker, caches, data, nodes, &unreached)?;
     }
     forward_kinematics(model, data, &problem.start)?;
     let start_collisions = collisions(model, data, &checker.settings.sweep.collision)?
@@ -269,4 +250,42 @@ pub(super) fn infeasibility(
         conflicts,
         start_collisions,
     })
+}
+
+/// The failures of the direct moves from the start (the first node closed) into the
+/// `unreached` targets that have no base pose: when the search pruned every move into them by
+/// its bound, without a check, so that no failure was recorded.
+fn pruned_conflicts(
+    model: &SceneModel,
+    problem: &Problem,
+    checker: &Checker<'_>,
+    caches: &mut Caches,
+    data: &mut SceneData,
+    nodes: &[Node],
+    unreached: &[JointId],
+) -> Result<Vec<Failure>, Error> {
+    let lattice = checker.lattice;
+    let mut conflicts = Vec::new();
+    let Some(start) = nodes.first().map(|n| &n.key) else {
+        return Ok(conflicts);
+    };
+    for j in unreached {
+        let Some(i) = problem.goal.target(*j) else {
+            continue;
+        };
+        let from = lattice.values(*j)[start[j.index()] as usize];
+        let Some(to) = lattice.index_of(*j, i.nearest(from)) else {
+            continue;
+        };
+        let to = to as u16;
+        if let Some(cause) = checker.no_base_pose(caches, data, start, *j, to)? {
+            conflicts.push(Failure {
+                joint: model.joints()[j.index()].name.clone(),
+                from,
+                to: lattice.values(*j)[to as usize],
+                cause,
+            });
+        }
+    }
+    Ok(conflicts)
 }
