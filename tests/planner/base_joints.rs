@@ -3,6 +3,7 @@
 //! URDF wrapped in such a chain, loaded through a robot description, opens the counter's
 //! drawer, and the independent re-checker of `contact.rs`, reading the wrapped URDF with the
 //! base joints held at 0 (so `odom` is where the base pose puts `base_link`), accepts the plan.
+//! It also opens a cabinet door and then the drawer the closed door blocks.
 
 use std::path::PathBuf;
 
@@ -75,5 +76,38 @@ fn a_base_modelled_as_joints_plans_the_drawer_and_the_plan_rechecks() {
     let report = recheck_robot(&geometry, &planner, &model, &problem.start, &plan)
         .unwrap_or_else(|v| panic!("{v}"));
     eprintln!("base joints: {report}");
+    assert!(report.contact_samples > 0);
+}
+
+/// The cabinet of `differential.rs` (its drawer runs through the closed door; see there): the
+/// Gen3 on base joints opens the door first, then the drawer, and the re-checker accepts it.
+#[test]
+fn a_base_modelled_as_joints_opens_the_door_then_the_drawer() {
+    let (urdf, description) = gen3_on_base_joints();
+    let robot = RobotModel::from_description_file(&description).expect("the description loads");
+    let planner = HierarchicalPlanner::new(robot, PlannerSettings::default()).unwrap();
+    let model = super::differential::cabinet_with_door_and_drawer();
+    let problem = super::problem(
+        &model,
+        "[goal]\ndoor_hinge = { min = 1.5 }\ndrawer_slide = { min = 0.25 }\n\
+         [robot]\nbase = [-1.3, 0.5, 0.0]\n",
+    );
+    let (planner, plan) = solve_with(planner, &model, &problem);
+    let order: Vec<&str> = plan.steps.iter().map(|s| s.joint.as_str()).collect();
+    let first_drawer = order.iter().position(|j| *j == "drawer_slide").unwrap();
+    assert!(
+        order[..first_drawer].contains(&"door_hinge"),
+        "the door opens first: {order:?}"
+    );
+    let geometry = RobotGeometry {
+        urdf,
+        frozen: ["base_x", "base_y", "base_yaw"]
+            .map(|j| (j.to_string(), 0.0))
+            .to_vec(),
+        ..RobotGeometry::gen3()
+    };
+    let report = recheck_robot(&geometry, &planner, &model, &problem.start, &plan)
+        .unwrap_or_else(|v| panic!("{v}"));
+    eprintln!("base joints, door then drawer {order:?}: {report}");
     assert!(report.contact_samples > 0);
 }

@@ -170,7 +170,7 @@ fn a_differential_drive_plan_never_moves_sideways_and_rechecks() {
 /// (front to x in [-0.21, -0.23]) runs it through the door. Open to 1.5 rad, the door's inner
 /// face at x = -0.22 lies at y = -0.3 + 0.02 sin 1.5 + 0.19 cos 1.5 ≈ -0.267 (0.19 m along the
 /// door), clear of the drawer (y >= -0.2).
-fn cabinet_with_door_and_drawer() -> SceneModel {
+pub(super) fn cabinet_with_door_and_drawer() -> SceneModel {
     let mut b = SceneModelBuilder::new();
     b.add_base_shape(BaseShape::new(
         "cabinet",
