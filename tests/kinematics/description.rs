@@ -161,6 +161,23 @@ fn bad_descriptions_name_their_field() {
     );
     let (field, _) = load_error(&gen3_description(true, "[base]\nfootprint_radius = -1.0\n"));
     assert_eq!(field, "base.footprint_radius");
+    // A footprint polygon: not with a radius too, and a polygon (a bow tie is not).
+    let (field, message) = load_error(&gen3_description(
+        true,
+        "[base]\nfootprint_radius = 0.5\nfootprint = [[0, 0], [1, 0], [0, 1]]\n",
+    ));
+    assert!(
+        field == "base.footprint" && message.contains("not both"),
+        "{field}: {message}"
+    );
+    let (field, message) = load_error(&gen3_description(
+        true,
+        "[base]\nfootprint = [[0, 0], [1, 1], [1, 0], [0, 1]]\n",
+    ));
+    assert!(
+        field == "base.footprint" && message.contains("cross"),
+        "{field}: {message}"
+    );
     let (_, message) = load_error("urdf = \"x.urdf\"\n");
     assert!(message.contains("tool"), "{message}");
     let (field, message) = load_error("[tool]\nlink = \"t\"\n");
@@ -276,4 +293,24 @@ fn a_differential_drive_base_loads() {
     assert_eq!(robot.base().kind, BaseKind::DifferentialDrive);
     assert_eq!(robot.base().max_velocity, [0.8, 0.0, 2.0]);
     assert_eq!(robot.base().max_acceleration, [0.4, 0.0, 1.5]);
+}
+
+/// A footprint polygon sets the base's footprint radius to its farthest vertex: a 0.7 × 0.5 m
+/// rectangle 0.05 m ahead of the origin has its far corners at (0.4, ±0.25), so the radius is
+/// hypot(0.4, 0.25) = √0.2225 ≈ 0.4717 m (by hand), whatever the computed one was.
+#[test]
+fn a_footprint_polygon_gives_its_enclosing_radius() {
+    let text = gen3_description(
+        true,
+        "[base]\nfootprint = [[-0.3, -0.25], [0.4, -0.25], [0.4, 0.25], [-0.3, 0.25]]\n",
+    );
+    let description = RobotDescription::parse(&text).unwrap();
+    let robot = RobotModel::from_description(&description, &robots(), &|_| None).unwrap();
+    let r = robot.base().footprint_radius;
+    assert!((r - 0.2225f64.sqrt()).abs() < 1e-12, "{r}");
+    let computed = RobotModel::from_description_file(&robots().join("gen3.toml"))
+        .unwrap()
+        .base()
+        .footprint_radius;
+    assert!((computed - r).abs() > 1e-3, "{computed} vs {r}");
 }

@@ -114,14 +114,15 @@ impl RobotModel {
         base.kind = kind;
         base.max_velocity = description.base.max_velocity;
         base.max_acceleration = description.base.max_acceleration;
-        if let Some(radius) = description.base.footprint_radius {
+        if let Some(radius) = described_radius(&description.base)? {
             base.footprint_radius = radius;
         }
         robot.with_base(base)
     }
 }
 
-/// The base's limits and footprint radius are finite and positive.
+/// The base's limits and footprint radius are finite and positive; a footprint polygon is a
+/// polygon, and not given with a radius.
 fn check_base(base: &BaseDescription) -> Result<(), RobotError> {
     let limits = [
         ("max_velocity", &base.max_velocity),
@@ -153,7 +154,20 @@ fn check_base(base: &BaseDescription) -> Result<(), RobotError> {
             field: "base.footprint_radius".to_owned(),
             message: format!("must be finite and > 0, got {r}"),
         }),
-        _ => Ok(()),
+        _ => described_radius(base).map(|_| ()),
+    }
+}
+
+/// The footprint radius the description gives: `footprint_radius`, or the enclosing radius of
+/// the `footprint` polygon; `None` when it gives neither.
+fn described_radius(base: &BaseDescription) -> Result<Option<f64>, RobotError> {
+    match (&base.footprint, base.footprint_radius) {
+        (Some(_), Some(_)) => Err(RobotError::Description {
+            field: "base.footprint".to_owned(),
+            message: "give footprint or footprint_radius, not both".to_owned(),
+        }),
+        (Some(polygon), None) => super::footprint::polygon_radius(polygon).map(Some),
+        (None, radius) => Ok(radius),
     }
 }
 

@@ -1,5 +1,6 @@
 //! The robot description file (TOML), [`RobotDescription`], and its loader.
 
+mod footprint;
 mod load;
 mod paths;
 
@@ -44,6 +45,7 @@ use super::{MobileBase, RobotModel};
 /// max_velocity = [0.5, 0.5, 1.0]      # x, y (m/s), yaw (rad/s); y = 0 for a differential drive
 /// max_acceleration = [0.5, 0.5, 1.0]  # x, y (m/s²), yaw (rad/s²)
 /// footprint_radius = 0.45             # optional (m): default computed at the stow
+/// # footprint = [[-0.3, -0.25], [0.3, -0.25], [0.3, 0.25], [-0.3, 0.25]]  # or a polygon (m)
 /// ```
 ///
 /// # Paths
@@ -63,9 +65,12 @@ use super::{MobileBase, RobotModel};
 /// [`PairSampling::default`](super::PairSampling)).
 ///
 /// # Footprint
-/// The footprint is a radius only: [`MobileBase::footprint_radius`]. The navigation grid
-/// inflates obstacles by a disc, and a polygon would need a yaw-dependent grid to be used
-/// soundly; base poses are always checked against the robot's real collision shapes.
+/// The footprint is a radius ([`MobileBase::footprint_radius`]) or a polygon in the base frame
+/// (`footprint`, as navigation stacks write it), never both. The navigation grid inflates
+/// obstacles by a disc, so a polygon becomes the disc about the base origin that encloses it
+/// at every yaw (its farthest vertex): sound, and as conservative as that disc; a
+/// yaw-dependent grid that would use the polygon's shape is not built. Base poses and base
+/// paths are always checked against the robot's real collision shapes.
 ///
 /// # Bad input
 /// Every bad input is a [`RobotError`] naming its element: [`RobotError::Description`] for the
@@ -147,6 +152,12 @@ pub struct BaseDescription {
     /// ([`MobileBase::footprint_radius`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub footprint_radius: Option<f64>,
+    /// The footprint as a polygon: vertices `[x, y]` (m) in the base frame, in order (either
+    /// sense), at least 3, simple; the radius is then its farthest vertex's distance from the
+    /// origin (see [`RobotDescription`]'s Footprint). Exclusive with
+    /// [`BaseDescription::footprint_radius`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub footprint: Option<Vec<[f64; 2]>>,
 }
 
 fn default_kind() -> String {
@@ -168,6 +179,7 @@ impl Default for BaseDescription {
             max_velocity: DEFAULT_BASE_VELOCITY,
             max_acceleration: DEFAULT_BASE_ACCELERATION,
             footprint_radius: None,
+            footprint: None,
         }
     }
 }
