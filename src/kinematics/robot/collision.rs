@@ -201,6 +201,19 @@ impl RobotCollision {
         }
     }
 
+    /// The exact distance (m) between the shapes of links `i` and `j` at `link_poses` (parry;
+    /// `<= 0` when they touch or overlap), allowed pair or not; `+∞` if either link has no
+    /// pose or no shapes.
+    pub fn pair_distance(&self, link_poses: &[Isometry3<f64>], i: usize, j: usize) -> f64 {
+        match (link_poses.get(i), link_poses.get(j)) {
+            (Some(pi), Some(pj)) if i < self.shapes.len() && j < self.shapes.len() => {
+                let (a, b) = (self.place_link(i, pi), self.place_link(j, pj));
+                min_distance(&a, &b, f64::INFINITY)
+            }
+            _ => f64::INFINITY,
+        }
+    }
+
     /// The first robot link (lowest index) within `margin` (m, clearance required) of the
     /// scene, and the scene body it is closest to among those in reach: base map shapes of
     /// `model`, and its parts at the poses in `data` (which must hold
