@@ -39,7 +39,7 @@ use std::time::{Duration, Instant};
 
 use kinscene::Termination;
 use kinscene::kinematics::robot::{
-    ArmEdgeCheck, EdgeSettings, Exempt, RobotCollision, RobotConfig, RobotImportOptions,
+    ArmEdgeCheck, EdgeScene, EdgeSettings, Exempt, RobotCollision, RobotConfig, RobotImportOptions,
     RobotModel, RobotSpheres, SphereData, SphereObstacles, SphereSettings, Srdf,
 };
 use kinscene::motion::paths::{
@@ -285,7 +285,12 @@ fn main() {
             &robot,
             &collision,
             &spheres,
-            &obstacles,
+            EdgeScene {
+                model: &model,
+                data: &data,
+                exempt: Exempt::Nothing,
+                margin: 0.0,
+            },
             [0.0; 3],
             &EdgeSettings::default(),
         )

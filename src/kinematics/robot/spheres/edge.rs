@@ -20,7 +20,10 @@
 //! [`SphereObstacles`]), and for every checked pair of links `i, k`, `d_ik(a) + d_ik(b) > B_i +
 //! B_k` (`d_ik`: the least distance between their spheres, `B_l`: the largest `b_s` of link
 //! `l`; where the spheres of a pair meet, `d_ik` is the exact distance of the links' shapes
-//! instead, [`RobotCollision::pair_distance`]). Suppose a point `p` of sphere `s` (the
+//! instead, [`RobotCollision::pair_distance`]). A link whose spheres fail the first test still
+//! passes when `D_l(a) + D_l(b) > B_l`, `D_l` the larger of its least sphere clearance and
+//! its exact distance to the scene minus the margin ([`RobotCollision::link_scene_distance`],
+//! computed where the spheres come within 2 cm): every point of the link moves at most `B_l`. Suppose a point `p` of sphere `s` (the
 //! spheres cover the exact shapes) reached an obstacle at `t`. The point moved at most
 //! `t·b_s` from `a` and `(1 − t)·b_s` to `b`, so `d_s(a) ≤ t·b_s` and `d_s(b) ≤ (1 − t)·b_s`:
 //! `d_s(a) + d_s(b) ≤ b_s`, a contradiction. For a pair, the two points close in by at most `B_i + B_k` per unit of `t` together; the same
@@ -37,7 +40,27 @@ use nalgebra::DVector;
 
 use super::{RobotSpheres, SphereData, SphereObstacles};
 use crate::InvalidSetting;
-use crate::kinematics::robot::{ArmJointKind, RobotCollision, RobotConfig, RobotError, RobotModel};
+use crate::kinematics::robot::{
+    ArmJointKind, Exempt, RobotCollision, RobotConfig, RobotError, RobotModel,
+};
+use crate::scene::{SceneData, SceneModel};
+
+/// Below this sphere clearance (m) of a link, its exact distance to the scene is computed too.
+const EXACT_BELOW: f32 = 0.02;
+
+/// The scene an [`ArmEdgeCheck`] checks against, as
+/// [`RobotCollision::scene_collision`] takes it.
+#[derive(Debug, Clone, Copy)]
+pub struct EdgeScene<'a> {
+    /// The scene model.
+    pub model: &'a SceneModel,
+    /// Its part poses ([`crate::scene::forward_kinematics`] of `model`).
+    pub data: &'a SceneData,
+    /// Which bodies some robot shapes may touch.
+    pub exempt: Exempt<'a>,
+    /// Clearance (m) required from the scene; negative or NaN counts as 0.
+    pub margin: f64,
+}
 
 /// Settings of [`ArmEdgeCheck`].
 #[derive(Debug, Clone, PartialEq)]
@@ -79,7 +102,8 @@ pub struct ArmEdgeCheck<'a> {
     robot: &'a RobotModel,
     collision: &'a RobotCollision,
     spheres: &'a RobotSpheres,
-    obstacles: &'a SphereObstacles,
+    scene: EdgeScene<'a>,
+    obstacles: SphereObstacles,
     base: [f64; 3],
     /// Per link, the arm joints that move it with their coefficients (see [`movers`]).
     movers: Vec<Vec<Mover>>,
@@ -91,12 +115,15 @@ pub struct ArmEdgeCheck<'a> {
 /// The clearances at one configuration: per real sphere against obstacles, per checked pair.
 struct Clearance {
     spheres: Vec<f32>,
+    /// Per link, a lower bound on its distance to the scene beyond the margin.
+    links: Vec<f64>,
     pairs: Vec<f64>,
 }
 
 impl<'a> ArmEdgeCheck<'a> {
     /// The check for `robot` with base pose `base`, `spheres` built from `robot` and
-    /// `collision`, against `obstacles` (which carry the exemption and the margin).
+    /// `collision`, against `scene` (as [`SphereObstacles`] for the spheres, exact distances
+    /// where a link's spheres come within 2 cm).
     ///
     /// # Errors
     /// [`RobotError::InvalidSetting`] for bad `settings`, [`RobotError::DimensionMismatch`]
@@ -106,7 +133,7 @@ impl<'a> ArmEdgeCheck<'a> {
         robot: &'a RobotModel,
         collision: &'a RobotCollision,
         spheres: &'a RobotSpheres,
-        obstacles: &'a SphereObstacles,
+        scene: EdgeScene<'a>,
         base: [f64; 3],
         settings: &EdgeSettings,
     ) -> Result<Self, RobotError> {
@@ -135,10 +162,12 @@ impl<'a> ArmEdgeCheck<'a> {
                     .collect()
             })
             .collect();
+        let obstacles = SphereObstacles::new(scene.model, scene.data, scene.exempt, scene.margin);
         Ok(ArmEdgeCheck {
             robot,
             collision,
             spheres,
+            scene,
             obstacles,
             base,
             movers,
@@ -210,7 +239,46 @@ impl<'a> ArmEdgeCheck<'a> {
                 }
             })
             .collect();
-        Some(Clearance { spheres, pairs })
+        let links = self.link_clearances(&poses, &spheres, scratch);
+        Some(Clearance {
+            spheres,
+            links,
+            pairs,
+        })
+    }
+
+    /// Per link, the larger of its least sphere clearance and, where that is under
+    /// [`EXACT_BELOW`], its exact distance to the scene minus the margin.
+    fn link_clearances(
+        &self,
+        poses: &[nalgebra::Isometry3<f64>],
+        spheres: &[f32],
+        scratch: &SphereData,
+    ) -> Vec<f64> {
+        let margin = if self.scene.margin > 0.0 {
+            self.scene.margin
+        } else {
+            0.0
+        };
+        let mut s = 0;
+        (0..scratch.links.len())
+            .map(|l| {
+                let n = scratch.links[l].1;
+                let least = spheres[s..s + n]
+                    .iter()
+                    .copied()
+                    .fold(f32::INFINITY, f32::min);
+                s += n;
+                if least >= EXACT_BELOW {
+                    return f64::from(least);
+                }
+                let (model, data, exempt) = (self.scene.model, self.scene.data, self.scene.exempt);
+                let exact = self
+                    .collision
+                    .link_scene_distance(poses, l, model, data, exempt);
+                f64::from(least).max(exact - margin)
+            })
+            .collect()
     }
 
     /// The acceptance test of an interval with joint displacements `delta` (`|Δq_j|`).
@@ -230,13 +298,16 @@ impl<'a> ArmEdgeCheck<'a> {
                 }
             }
             let mut link_bound: f64 = 0.0;
+            let mut spheres_pass = true;
             for &r in rho {
                 let bound = offset + r * turn;
-                if !(f64::from(ca.spheres[s]) + f64::from(cb.spheres[s]) > bound) {
-                    return false;
-                }
+                spheres_pass &= f64::from(ca.spheres[s]) + f64::from(cb.spheres[s]) > bound;
                 link_bound = link_bound.max(bound);
                 s += 1;
+            }
+            let l = largest.len();
+            if !(spheres_pass || ca.links[l] + cb.links[l] > link_bound) {
+                return false;
             }
             largest.push(link_bound);
         }

@@ -51,7 +51,7 @@ use crate::InvalidSetting;
 
 pub use check::{SPHERE_SLACK, SphereData};
 pub use cover::CELL_SLACK;
-pub use edge::{ArmEdgeCheck, EdgeSettings};
+pub use edge::{ArmEdgeCheck, EdgeScene, EdgeSettings};
 pub use obstacles::SphereObstacles;
 
 /// A sphere: centre and radius (m).
