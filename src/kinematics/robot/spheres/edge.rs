@@ -315,7 +315,7 @@ impl<'a> ArmEdgeCheck<'a> {
             .checked_pairs()
             .iter()
             .zip(ca.pairs.iter().zip(&cb.pairs))
-            .all(|(&(i, k), (&da, &db))| f64::from(da) + f64::from(db) > largest[i] + largest[k])
+            .all(|(&(i, k), (&da, &db))| da + db > largest[i] + largest[k])
     }
 }
 
