@@ -1,11 +1,13 @@
 //! MotionBenchMaker on the Panda (VAMP's 700 problems: 7 scene families × 100), planned with
-//! the crate's public arm planner ([`plan_arm`], OMPL RRTConnect) twice from the same run:
-//! validity by the exact parry check, and by the sphere fast path ([`RobotSpheres`] against
-//! [`SphereObstacles`], exact fallback). Prints the success rate, the median and p95 planning
-//! time (wall clock, planning plus simplification) and the ratio of the medians.
+//! the crate's public arm planner ([`plan_arm`], OMPL RRTConnect) three times from the same
+//! run: validity by the exact parry check, by the sphere fast path ([`RobotSpheres`] against
+//! [`SphereObstacles`], exact fallback), both with OMPL's discrete motion check, and the fast
+//! path with certified edges ([`ArmEdgeCheck`] through [`plan_arm_with_motion`]). Prints the
+//! success rate, the median and p95 planning time (wall clock, planning plus simplification)
+//! and the ratio of the medians.
 //!
 //! `cargo bench --bench mbm` (optionally `-- PER_SET`, the first `PER_SET` problems of each
-//! family; default 100, all).
+//! family, default 100, all; and `-- no-exact` to skip the exact-check mode).
 //!
 //! **Set-up (not timed, not in the tests).** The problems ship in the `vamp-planner` sdist on
 //! PyPI (`resources/panda/problems.tar.bz2`, MoveIt scene and request YAML). The first run
@@ -26,6 +28,8 @@
 //! paths failing it are reported (issue 23's thin-obstacle problem).
 //!
 //! [`plan_arm`]: kinscene::motion::paths::plan_arm
+//! [`plan_arm_with_motion`]: kinscene::motion::paths::plan_arm_with_motion
+//! [`ArmEdgeCheck`]: kinscene::kinematics::robot::ArmEdgeCheck
 //! [`first_invalid`]: kinscene::motion::paths::first_invalid
 //! [`PathSettings::default`]: kinscene::motion::paths::PathSettings
 
@@ -35,10 +39,12 @@ use std::time::{Duration, Instant};
 
 use kinscene::Termination;
 use kinscene::kinematics::robot::{
-    Exempt, RobotCollision, RobotConfig, RobotImportOptions, RobotModel, RobotSpheres, SphereData,
-    SphereObstacles, SphereSettings, Srdf,
+    ArmEdgeCheck, EdgeScene, EdgeSettings, Exempt, RobotCollision, RobotConfig, RobotImportOptions,
+    RobotModel, RobotSpheres, SphereData, SphereObstacles, SphereSettings, Srdf,
 };
-use kinscene::motion::paths::{PathOutcome, PathSettings, first_invalid, plan_arm};
+use kinscene::motion::paths::{
+    MotionCheck, PathOutcome, PathSettings, first_invalid, plan_arm, plan_arm_with_motion,
+};
 use kinscene::scene::{
     BaseShape, SceneData, SceneModel, SceneModelBuilder, Shape, State, forward_kinematics,
 };
@@ -209,6 +215,7 @@ fn main() {
         .skip(1)
         .find_map(|a| a.parse().ok())
         .unwrap_or(100);
+    let with_exact = !std::env::args().any(|a| a == "no-exact");
     let mut problems = problems();
     let mut taken = std::collections::BTreeMap::<String, usize>::new();
     problems.retain(|p| {
@@ -232,7 +239,7 @@ fn main() {
         problems.len(),
         spheres.count()
     );
-    let mut stats = [(); 2].map(|_| Stats {
+    let mut stats = [(); 3].map(|_| Stats {
         times: Vec::new(),
         solved: 0,
         recheck_failures: 0,
@@ -274,7 +281,23 @@ fn main() {
                         .scene_collision(&p, &model, &data, Exempt::Nothing, 0.0)
                         .is_none())
         };
-        let checkers: [&Checker<'_>; 2] = [&exact, &fast];
+        let edges = ArmEdgeCheck::new(
+            &robot,
+            &collision,
+            &spheres,
+            EdgeScene {
+                model: &model,
+                data: &data,
+                exempt: Exempt::Nothing,
+                margin: 0.0,
+            },
+            [0.0; 3],
+            &EdgeSettings::default(),
+        )
+        .expect("edge check");
+        let certified = |a: &[f64], b: &[f64]| edges.check(a, b);
+        let modes: [(&Checker<'_>, Option<&MotionCheck<'_>>); 3] =
+            [(&exact, None), (&fast, None), (&fast, Some(&certified))];
         if !warmed {
             // The first call loads the OMPL shim: not charged to any problem.
             let _ = plan_arm(
@@ -288,14 +311,18 @@ fn main() {
             );
             warmed = true;
         }
-        for (stat, check) in stats.iter_mut().zip(checkers) {
+        for (k, (stat, (check, motion))) in stats.iter_mut().zip(modes).enumerate() {
+            if k == 0 && !with_exact {
+                continue;
+            }
             let t0 = Instant::now();
-            let outcome = plan_arm(
+            let outcome = plan_arm_with_motion(
                 &problem.start,
                 &problem.goal,
                 &lower,
                 &upper,
                 check,
+                motion,
                 &settings,
                 &Termination::none(),
             )
@@ -315,12 +342,21 @@ fn main() {
         "invalid endpoints (start or goal collides with this Panda model): {invalid_endpoints}"
     );
     let mut medians = Vec::new();
-    for (name, stat) in ["exact parry", "sphere fast path"].iter().zip(&mut stats) {
+    let names = [
+        "exact parry",
+        "sphere fast path",
+        "fast path, certified edges",
+    ];
+    for (name, stat) in names.iter().zip(&mut stats) {
+        if stat.times.is_empty() {
+            medians.push(Duration::ZERO);
+            continue;
+        }
         stat.times.sort();
         let median = quantile(&stat.times, 0.5);
         medians.push(median);
         println!(
-            "{name:>17}: solved {}/{attempted} ({:.1} %), median {:.2} ms, p95 {:.2} ms, \
+            "{name:>26}: solved {}/{attempted} ({:.1} %), median {:.2} ms, p95 {:.2} ms, \
              exact re-check at 1/4 spacing fails on {}",
             stat.solved,
             100.0 * stat.solved as f64 / attempted.max(1) as f64,
@@ -330,7 +366,8 @@ fn main() {
         );
     }
     println!(
-        "median ratio exact / fast path: {:.2} (targets of issue 23: 100 % of solvable, median <= 1 ms, p95 <= 20 ms)",
-        medians[0].as_secs_f64() / medians[1].as_secs_f64().max(1e-12)
+        "median ratios exact / fast path: {:.2}, certified / fast path: {:.2} (targets of issue 23: 100 % of solvable, median <= 1 ms, p95 <= 20 ms)",
+        medians[0].as_secs_f64() / medians[1].as_secs_f64().max(1e-12),
+        medians[2].as_secs_f64() / medians[1].as_secs_f64().max(1e-12)
     );
 }

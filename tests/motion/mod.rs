@@ -1,5 +1,6 @@
 //! Motion layer: OMPL paths, timing, base placement.
 
+mod edges;
 mod paths;
 mod placement;
 mod timing;

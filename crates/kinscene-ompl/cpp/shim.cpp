@@ -1,6 +1,7 @@
 // kinscene OMPL shim: see shim.h for the C ABI and its conventions.
 #include "shim.h"
 
+#include <ompl/base/MotionValidator.h>
 #include <ompl/base/PlannerTerminationCondition.h>
 #include <ompl/base/ProblemDefinition.h>
 #include <ompl/base/ScopedState.h>
@@ -77,6 +78,47 @@ private:
     bool se2_;
     size_t dim_;
     ks_ompl_validity_fn fn_;
+    void* user_;
+};
+
+// The motion validator that calls back into Rust.
+class CallbackMotionValidator final : public ob::MotionValidator {
+public:
+    CallbackMotionValidator(ob::SpaceInformation* si, bool se2, size_t dim, ks_ompl_motion_fn fn,
+                            void* user)
+        : ob::MotionValidator(si), se2_(se2), dim_(dim), fn_(fn), user_(user) {}
+
+    bool checkMotion(const ob::State* s1, const ob::State* s2) const override {
+        const bool ok = call(s1, s2);
+        ++(ok ? valid_ : invalid_);
+        return ok;
+    }
+
+    // The callback gives no position along a rejected motion: the last valid state reported
+    // is `s1` (fraction 0), which OMPL holds as valid.
+    bool checkMotion(const ob::State* s1, const ob::State* s2,
+                     std::pair<ob::State*, double>& last_valid) const override {
+        if (checkMotion(s1, s2)) return true;
+        if (last_valid.first) si_->copyState(last_valid.first, s1);
+        last_valid.second = 0.0;
+        return false;
+    }
+
+private:
+    bool call(const ob::State* s1, const ob::State* s2) const {
+        if (se2_) {
+            double a[3], b[3];
+            to_flat(true, s1, 3, a);
+            to_flat(true, s2, 3, b);
+            return fn_(user_, a, b, 3) != 0;
+        }
+        return fn_(user_, s1->as<ob::RealVectorStateSpace::StateType>()->values,
+                   s2->as<ob::RealVectorStateSpace::StateType>()->values, dim_) != 0;
+    }
+
+    bool se2_;
+    size_t dim_;
+    ks_ompl_motion_fn fn_;
     void* user_;
 };
 
@@ -212,7 +254,8 @@ bool admissible(const ob::SpaceInformationPtr& si, const ob::ScopedState<>& st) 
 }  // namespace
 
 KS_API int ks_ompl_plan(const ks_ompl_plan_request* request, ks_ompl_validity_fn valid,
-                        void* valid_user, ks_ompl_cancel_fn cancel, void* cancel_user,
+                        void* valid_user, ks_ompl_motion_fn motion, void* motion_user,
+                        ks_ompl_cancel_fn cancel, void* cancel_user,
                         ks_ompl_path_sink sink, void* sink_user, ks_ompl_plan_result* out,
                         char* err, size_t err_len) {
     return ks::guard(err, err_len, [&] {
@@ -240,7 +283,11 @@ KS_API int ks_ompl_plan(const ks_ompl_plan_request* request, ks_ompl_validity_fn
         si->setStateValidityChecker(
             std::make_shared<CallbackChecker>(si.get(), se2, r.dim, valid, valid_user));
         si->setStateValidityCheckingResolution(r.resolution);
-        si->setup();  // throws for a space of zero extent
+        if (motion) {
+            si->setMotionValidator(std::make_shared<CallbackMotionValidator>(si.get(), se2, r.dim,
+                                                                             motion, motion_user));
+        }
+        si->setup();  // throws for a space of zero extent; keeps the motion validator set
 
         ob::ScopedState<> start(space), goal(space);
         set_state(start, se2, r.start, r.dim);

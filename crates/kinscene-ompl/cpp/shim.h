@@ -31,6 +31,11 @@ enum {
 // State validity: returns non-zero when `state` (dim values; SE(2): x, y, yaw) is valid.
 // May be called from several threads at once (OMPL's PRM grows its roadmap in a second thread).
 typedef int (*ks_ompl_validity_fn)(void* user, const double* state, size_t dim);
+// Motion validity: returns non-zero when the motion from `a` to `b` (dim values each, same
+// layout as the validity callback; the space's interpolation: straight lines, shortest angle
+// for the SE(2) yaw) is valid, `b` included. `a` is a state OMPL already holds as valid. Called
+// from the same threads as the validity callback.
+typedef int (*ks_ompl_motion_fn)(void* user, const double* a, const double* b, size_t dim);
 // Cancellation: returns non-zero when planning should stop. Polled often; must be cheap.
 typedef int (*ks_ompl_cancel_fn)(void* user);
 // Receives the solution path, one state at a time, in order.
@@ -62,11 +67,14 @@ typedef struct ks_ompl_plan_result {
     double goal_distance;      // distance of the path's last state to the goal; NaN if no path
 } ks_ompl_plan_result;
 
-// Plans one query. `cancel` may be NULL. The path (if any) goes to `sink` before returning.
+// Plans one query. `cancel` may be NULL. `motion` may be NULL: OMPL's discrete motion
+// validator then checks motions with `valid` every `resolution`; otherwise `motion` decides
+// every motion (planner and simplifier) and `resolution` is unused. The path (if any) goes to `sink` before returning.
 // The start and goal are checked (bounds, then validity) before a planner is built, so every
 // planner reports INVALID_START / INVALID_GOAL the same way.
 KS_API int ks_ompl_plan(const ks_ompl_plan_request* request, ks_ompl_validity_fn valid,
-                        void* valid_user, ks_ompl_cancel_fn cancel, void* cancel_user,
+                        void* valid_user, ks_ompl_motion_fn motion, void* motion_user,
+                        ks_ompl_cancel_fn cancel, void* cancel_user,
                         ks_ompl_path_sink sink, void* sink_user, ks_ompl_plan_result* out,
                         char* err, size_t err_len);
 

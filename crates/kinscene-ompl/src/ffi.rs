@@ -15,6 +15,9 @@ pub(crate) const SPACE_REAL_VECTOR: i32 = 1;
 
 /// `ks_ompl_validity_fn`.
 pub(crate) type ValidityFn = unsafe extern "C" fn(*mut c_void, *const f64, usize) -> c_int;
+/// `ks_ompl_motion_fn`.
+pub(crate) type MotionFn =
+    unsafe extern "C" fn(*mut c_void, *const f64, *const f64, usize) -> c_int;
 /// `ks_ompl_cancel_fn`.
 pub(crate) type CancelFn = unsafe extern "C" fn(*mut c_void) -> c_int;
 /// `ks_ompl_path_sink`.
@@ -65,6 +68,8 @@ pub(crate) struct BenchResult {
 type PlanFnPtr = unsafe extern "C" fn(
     *const PlanRequest,
     ValidityFn,
+    *mut c_void,
+    Option<MotionFn>,
     *mut c_void,
     Option<CancelFn>,
     *mut c_void,

@@ -7,6 +7,7 @@
 //!
 //! The layering follows OMPL: a [`StateSpace`] and a [`Problem`] (start, goal, tolerance), a
 //! [`StateValidityChecker`] you implement (any `Fn(&[f64]) -> bool + Sync` closure is one),
+//! optionally a [`MotionValidator`] for whole motions ([`plan_with_motion`]),
 //! [`PlanSettings`], and [`plan`], which returns a [`PlanOutcome`] with a [`PlanStatus`].
 //! Not finding a path is an outcome inside `Ok`; [`Error`] is for bad input and backend
 //! failures.
@@ -48,9 +49,9 @@ mod plan;
 mod settings;
 mod space;
 
-pub use checker::StateValidityChecker;
+pub use checker::{MotionValidator, StateValidityChecker};
 pub use error::Error;
 pub use global::{DEFAULT_LOG_LEVEL, LogLevel, load, set_log_level, set_seed};
-pub use plan::{PlanOutcome, PlanStatus, plan};
+pub use plan::{PlanOutcome, PlanStatus, plan, plan_with_motion};
 pub use settings::{PlanSettings, Planner, Termination};
 pub use space::{Problem, StateSpace};

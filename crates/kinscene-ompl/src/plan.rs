@@ -4,7 +4,10 @@ use std::ptr;
 use std::sync::atomic::Ordering;
 use std::time::Duration;
 
-use crate::checker::{CheckerContext, StateValidityChecker, cancel_trampoline, path_sink};
+use crate::checker::{
+    CheckerContext, MotionContext, MotionValidator, StateValidityChecker, cancel_trampoline,
+    path_sink,
+};
 use crate::ffi::{self, PlanRequest, PlanResult, api};
 use crate::{Error, PlanSettings, Problem, StateSpace, Termination};
 
@@ -66,7 +69,8 @@ pub struct PlanOutcome {
     pub planning_time: Duration,
     /// Wall-clock time of simplification and interpolation.
     pub simplification_time: Duration,
-    /// Panics caught in the validity checker (each counted as an invalid state).
+    /// Panics caught in the validity checker (each counted as an invalid state) and in the
+    /// motion validator, if any (each counted as an invalid motion).
     pub checker_panics: usize,
 }
 
@@ -110,6 +114,47 @@ pub fn plan<C: StateValidityChecker + ?Sized>(
     settings: &PlanSettings,
     termination: Termination<'_>,
 ) -> Result<PlanOutcome, Error> {
+    plan_with_motion::<C, dyn MotionValidator>(problem, checker, None, settings, termination)
+}
+
+/// [`plan`] with an optional [`MotionValidator`]: with `Some(validator)`, it decides every
+/// motion the planner and the simplifier check (OMPL's `SpaceInformation::setMotionValidator`)
+/// and [`PlanSettings::resolution_fraction`] is unused; with `None` this is [`plan`] (OMPL's
+/// discrete motion check at that resolution). States are still checked by `checker` (samples,
+/// start and goal).
+///
+/// # Errors
+/// As [`plan`].
+///
+/// # Example
+/// ```
+/// use std::time::Duration;
+/// use kinscene_ompl::{plan_with_motion, PlanSettings, Problem, StateSpace, Termination};
+///
+/// let space = StateSpace::RealVector { lower: vec![0.0; 2], upper: vec![1.0; 2] };
+/// let problem = Problem::new(space, vec![0.1, 0.5], vec![0.9, 0.5]);
+/// // A wall x = 0.5 of zero thickness with a gap at y > 0.8: no state is in collision, only
+/// // motions crossing the wall below the gap are.
+/// let free = |_: &[f64]| true;
+/// let crosses = |a: &[f64], b: &[f64]| {
+///     if (a[0] - 0.5) * (b[0] - 0.5) > 0.0 { return false; }
+///     let t = if a[0] == b[0] { 0.0 } else { (0.5 - a[0]) / (b[0] - a[0]) };
+///     a[1] + t * (b[1] - a[1]) <= 0.8
+/// };
+/// let motion = |a: &[f64], b: &[f64]| !crosses(a, b);
+/// let outcome = plan_with_motion(&problem, &free, Some(&motion), &PlanSettings::default(),
+///                                Termination::after(Duration::from_secs(1)))?;
+/// assert!(outcome.is_exact());
+/// assert!(outcome.path.windows(2).all(|w| motion(&w[0], &w[1])));
+/// # Ok::<(), kinscene_ompl::Error>(())
+/// ```
+pub fn plan_with_motion<C: StateValidityChecker + ?Sized, M: MotionValidator + ?Sized>(
+    problem: &Problem,
+    checker: &C,
+    motion: Option<&M>,
+    settings: &PlanSettings,
+    termination: Termination<'_>,
+) -> Result<PlanOutcome, Error> {
     problem.validate()?;
     settings.validate()?;
     termination.validate()?;
@@ -139,6 +184,11 @@ pub fn plan<C: StateValidityChecker + ?Sized>(
         cost_threshold: settings.cost_threshold.unwrap_or(0.0),
     };
     let context = CheckerContext::new(checker);
+    let motion_context = motion.map(MotionContext::new);
+    let (motion_fn, motion_user) = match &motion_context {
+        Some(m) => (Some(m.trampoline()), m.as_user()),
+        None => (None, ptr::null_mut()),
+    };
     let (cancel_fn, cancel_user) = match termination.cancel {
         Some(flag) => (
             Some(cancel_trampoline as ffi::CancelFn),
@@ -149,13 +199,15 @@ pub fn plan<C: StateValidityChecker + ?Sized>(
     let mut path: Vec<Vec<f64>> = Vec::new();
     let mut result = PlanResult::default();
     // SAFETY: every pointer refers to data that lives until the call returns (request vectors,
-    // context, flag, path, result); the shim calls the trampolines only during the call, with
+    // contexts, flag, path, result); the shim calls the trampolines only during the call, with
     // the matching user pointers; the signatures match cpp/shim.h.
     kinscene_shim::call("ks_ompl_plan", |err, len| unsafe {
         (api.plan)(
             &request,
             context.trampoline(),
             context.as_user(),
+            motion_fn,
+            motion_user,
             cancel_fn,
             cancel_user,
             path_sink,
@@ -184,6 +236,6 @@ pub fn plan<C: StateValidityChecker + ?Sized>(
         path,
         planning_time: Duration::from_secs_f64(result.planning_time_s.max(0.0)),
         simplification_time: Duration::from_secs_f64(result.simplification_time_s.max(0.0)),
-        checker_panics: context.panics(),
+        checker_panics: context.panics() + motion_context.as_ref().map_or(0, |m| m.panics()),
     })
 }

@@ -6,6 +6,7 @@
 mod common;
 mod errors;
 mod maze;
+mod motion;
 mod outcomes;
 mod planners;
 mod settings;

@@ -57,7 +57,7 @@ use crate::InvalidSetting;
 pub use differential::{DifferentialFailure, SAME_POSITION, STRAIGHT_IN, differential_drive};
 pub use error::PathError;
 pub use kinscene_ompl::Planner;
-pub use plan::{CONTINUOUS_JOINT_WINDOW, plan_arm, plan_base};
+pub use plan::{CONTINUOUS_JOINT_WINDOW, MotionCheck, plan_arm, plan_arm_with_motion, plan_base};
 pub use recheck::first_invalid;
 
 /// How to plan a path.

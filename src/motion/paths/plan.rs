@@ -4,7 +4,8 @@ use std::f64::consts::PI;
 use std::sync::RwLock;
 
 use kinscene_ompl::{
-    PlanOutcome, PlanSettings, PlanStatus, Problem, StateSpace, StateValidityChecker, Termination,
+    MotionValidator, PlanOutcome, PlanSettings, PlanStatus, Problem, StateSpace,
+    StateValidityChecker, Termination,
 };
 
 use super::{PathError, PathFailure, PathOutcome, PathSettings};
@@ -59,7 +60,7 @@ pub fn plan_base(
     let extent = (upper[0] - lower[0]).hypot(upper[1] - lower[1]) + 0.5 * PI;
     let checker = |q: &[f64]| q.len() == 3 && valid(&[q[0], q[1], q[2]]);
     let problem = Problem::new(space, start.to_vec(), goal.to_vec());
-    let outcome = run(&problem, &checker, extent, settings, termination)?;
+    let outcome = run(&problem, &checker, None, extent, settings, termination)?;
     Ok(match outcome {
         PathOutcome::Solved(mut path) => {
             unwrap_yaw(&mut path, &start);
@@ -87,6 +88,45 @@ pub fn plan_arm(
     lower: &[f64],
     upper: &[f64],
     valid: &(dyn Fn(&[f64]) -> bool + Sync),
+    settings: &PathSettings,
+    termination: &crate::control::Termination<'_>,
+) -> Result<PathOutcome, PathError> {
+    plan_arm_with_motion(
+        start,
+        goal,
+        lower,
+        upper,
+        valid,
+        None,
+        settings,
+        termination,
+    )
+}
+
+/// A whole-motion check for [`plan_arm_with_motion`]: whether the straight joint-space motion
+/// from the first configuration to the second is free, e.g. a certified
+/// [`ArmEdgeCheck::check`](crate::kinematics::robot::ArmEdgeCheck::check).
+pub type MotionCheck<'a> = dyn Fn(&[f64], &[f64]) -> bool + Sync + 'a;
+
+/// [`plan_arm`] with an optional whole-motion check. With `Some(motion)`, OMPL (planner and
+/// simplifier) accepts a motion `a → b` when `valid(b)` and `motion(a, b)` both hold, in place
+/// of its discrete check of `valid` every [`PathSettings::resolution`]; `valid` still decides
+/// the start, the goal and the sampled states. With a certified `motion` (one that accepts
+/// only free motions, such as [`ArmEdgeCheck::check`]), every returned segment is free
+/// however thin the obstacles. With `None` this is [`plan_arm`].
+///
+/// # Errors
+/// As [`plan_arm`].
+///
+/// [`ArmEdgeCheck::check`]: crate::kinematics::robot::ArmEdgeCheck::check
+#[allow(clippy::too_many_arguments)]
+pub fn plan_arm_with_motion(
+    start: &[f64],
+    goal: &[f64],
+    lower: &[f64],
+    upper: &[f64],
+    valid: &(dyn Fn(&[f64]) -> bool + Sync),
+    motion: Option<&MotionCheck<'_>>,
     settings: &PathSettings,
     termination: &crate::control::Termination<'_>,
 ) -> Result<PathOutcome, PathError> {
@@ -146,8 +186,10 @@ pub fn plan_arm(
         upper: window_upper,
     };
     let checker = |q: &[f64]| valid(q);
+    let whole = motion.map(|m| move |a: &[f64], b: &[f64]| valid(b) && m(a, b));
+    let whole = whole.as_ref().map(|m| m as &dyn MotionValidator);
     let problem = Problem::new(space, start.to_vec(), goal.to_vec());
-    let outcome = run(&problem, &checker, extent, settings, termination)?;
+    let outcome = run(&problem, &checker, whole, extent, settings, termination)?;
     Ok(match outcome {
         PathOutcome::Solved(mut path) => {
             // OMPL copies the start's values; make that exact whatever the shim does.
@@ -162,6 +204,7 @@ pub fn plan_arm(
 fn run<C: StateValidityChecker>(
     problem: &Problem,
     checker: &C,
+    motion: Option<&dyn MotionValidator>,
     extent: f64,
     settings: &PathSettings,
     termination: &crate::control::Termination<'_>,
@@ -202,11 +245,11 @@ fn run<C: StateValidityChecker>(
             // A poisoned lock only means another plan panicked; the guarded state is `()`.
             let _exclusive = OMPL_RNG.write().unwrap_or_else(|e| e.into_inner());
             kinscene_ompl::set_seed(seed)?;
-            kinscene_ompl::plan(problem, checker, &ompl_settings, termination)?
+            kinscene_ompl::plan_with_motion(problem, checker, motion, &ompl_settings, termination)?
         }
         None => {
             let _shared = OMPL_RNG.read().unwrap_or_else(|e| e.into_inner());
-            kinscene_ompl::plan(problem, checker, &ompl_settings, termination)?
+            kinscene_ompl::plan_with_motion(problem, checker, motion, &ompl_settings, termination)?
         }
     };
     Ok(map_outcome(

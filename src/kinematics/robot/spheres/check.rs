@@ -114,6 +114,31 @@ impl RobotSpheres {
             .find(|&(i, j)| self.pair_meets(data, i, j) && collision.pair_touches(link_poses, i, j))
     }
 
+    /// A lower bound (m) on the distance between the spheres of links `i` and `j` in `data`:
+    /// the least over sphere pairs of centre distance minus both radii minus
+    /// [`SPHERE_SLACK`] (negative where [`RobotSpheres::pair_meets`] is true;
+    /// `f32::INFINITY` if either link has no spheres placed).
+    pub(super) fn pair_clearance(&self, data: &SphereData, i: usize, j: usize) -> f32 {
+        let (Some(&(si, ni)), Some(&(sj, nj))) = (data.links.get(i), data.links.get(j)) else {
+            return f32::INFINITY;
+        };
+        let mut least = f32x8::splat(f32::INFINITY);
+        for a in si..si + ni {
+            let (ax, ay, az) = (
+                f32x8::splat(data.x[a]),
+                f32x8::splat(data.y[a]),
+                f32x8::splat(data.z[a]),
+            );
+            let ar = f32x8::splat(data.r[a] + SPHERE_SLACK);
+            for start in (sj..sj + nj).step_by(LANES) {
+                let [bx, by, bz, br] = data.block(start);
+                let (dx, dy, dz) = (bx - ax, by - ay, bz - az);
+                least = least.min((dx * dx + dy * dy + dz * dz).sqrt() - br - ar);
+            }
+        }
+        least.to_array().into_iter().fold(f32::INFINITY, f32::min)
+    }
+
     /// Whether a sphere of link `i` and a sphere of link `j` in `data` are within the sum of
     /// their radii plus [`SPHERE_SLACK`] (`false` if either link has no spheres placed).
     pub fn pair_meets(&self, data: &SphereData, i: usize, j: usize) -> bool {

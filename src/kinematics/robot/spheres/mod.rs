@@ -41,6 +41,7 @@
 mod check;
 mod clip;
 mod cover;
+mod edge;
 mod obstacles;
 
 use nalgebra::Point3;
@@ -50,6 +51,7 @@ use crate::InvalidSetting;
 
 pub use check::{SPHERE_SLACK, SphereData};
 pub use cover::CELL_SLACK;
+pub use edge::{ArmEdgeCheck, EdgeScene, EdgeSettings};
 pub use obstacles::SphereObstacles;
 
 /// A sphere: centre and radius (m).

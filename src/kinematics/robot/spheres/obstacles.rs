@@ -135,6 +135,43 @@ impl SphereObstacles {
     }
 }
 
+impl SphereObstacles {
+    /// Per real sphere of `spheres` (placement order: link by link), a lower bound (m) on the
+    /// distance from the sphere to the obstacles it is tested against: the distance from its
+    /// centre to each rounded box, minus the box's reach (rounding radius + margin +
+    /// [`SPHERE_SLACK`]) and the sphere's radius, the least over the obstacles. Written into
+    /// `out` (cleared first); `f32::INFINITY` without obstacles. Where it is positive the
+    /// robot's exact geometry keeps more than the margin from the scene; every point of the
+    /// sphere is at least this far from every (margin-inflated) obstacle.
+    pub(super) fn clearances(&self, spheres: &SphereData, out: &mut Vec<f32>) {
+        out.clear();
+        let zero = f32x8::splat(0.0);
+        for &(start, n) in &spheres.links {
+            for s in start..start + n {
+                let set = &self.sets[usize::from(spheres.kind[s] & 3)];
+                let p = [
+                    f32x8::splat(spheres.x[s]),
+                    f32x8::splat(spheres.y[s]),
+                    f32x8::splat(spheres.z[s]),
+                ];
+                let mut least = f32x8::splat(f32::INFINITY);
+                for b in set {
+                    let d = [p[0] - b.center[0], p[1] - b.center[1], p[2] - b.center[2]];
+                    let mut dist2 = zero;
+                    for k in 0..3 {
+                        let along = b.axes[k][0] * d[0] + b.axes[k][1] * d[1] + b.axes[k][2] * d[2];
+                        let outside = (along.abs() - b.half[k]).max(zero);
+                        dist2 += outside * outside;
+                    }
+                    least = least.min(dist2.sqrt() - b.reach);
+                }
+                let least = least.to_array().into_iter().fold(f32::INFINITY, f32::min);
+                out.push(least - spheres.r[s]);
+            }
+        }
+    }
+}
+
 /// Whether the sphere at `p` of radius `r` reaches any lane's rounded box: the distance from
 /// `p` to the box (clamped per box axis) is at most `r` plus the lane's reach.
 #[inline]
