@@ -261,8 +261,7 @@ pub fn observe(c: &HardCase, sigma: f64, seed: u64) -> HardObservation {
     let pre = render(&pre_boxes, &c.cameras.0, &noise(0), 0.0).expect("valid camera");
     let post = render(&post_boxes, &c.cameras.1, &noise(1), 10.0).expect("valid camera");
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0xfa5e);
-    let mut v3 =
-        |s: f64, rng: &mut ChaCha8Rng| Vector3::new(gauss(rng), gauss(rng), gauss(rng)) * s;
+    let v3 = |s: f64, rng: &mut ChaCha8Rng| Vector3::new(gauss(rng), gauss(rng), gauss(rng)) * s;
     let contact_pre = c.contact + v3(sigma / 2.0, &mut rng);
     let contact_post = moved * c.contact + v3(sigma / 2.0, &mut rng);
     let n = 60;

@@ -190,7 +190,7 @@ fn estimate(s: &FusedSettings, i: &Interaction<'_>) -> Result<Estimate, Articula
     let details = format!(
         "fused: {}; depth sigma {sigma_d:.4} m, pose sigma {sigma_p:.4} m / {sigma_o:.4} rad, \
          n_eff {:.0}, {} poses; BIC {} (revolute first); explained {explained:.3}; \
-         two-view: {}; proprioceptive: {}",
+         two-view: {:?}; proprioceptive: {:?}",
         terms.join("; "),
         evidence.n_eff,
         poses.len(),
@@ -198,8 +198,8 @@ fn estimate(s: &FusedSettings, i: &Interaction<'_>) -> Result<Estimate, Articula
             .map(|b| format!("{b:.1}"))
             .collect::<Vec<_>>()
             .join(" / "),
-        format!("{:?}", two_view.joint.kind()),
-        format!("{:?}", proprioceptive.joint.kind()),
+        two_view.joint.kind(),
+        proprioceptive.joint.kind(),
     );
     Ok(Estimate {
         joint: joint_of(&state),
