@@ -28,6 +28,7 @@
 mod cloud;
 mod error;
 mod estimate;
+mod fused;
 mod icp;
 mod kdtree;
 pub mod metrics;
@@ -45,6 +46,7 @@ pub use estimate::{
     ArticulationEstimator, Estimate, Interaction, JointEstimate, JointKindEstimate, unit_score,
     validate_ee_poses,
 };
+pub use fused::{Fused, FusedSettings};
 pub use metrics::{axis_angle_error, axis_position_error, joint_type_accuracy};
 pub use proprioceptive::{
     MIN_NOISE_POSES, MIN_ORIENTATION_SIGMA, MIN_POSITION_SIGMA, NoiseSource, OrientationModel,

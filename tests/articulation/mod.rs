@@ -9,6 +9,8 @@
 mod calibration;
 mod degenerate;
 mod estimators;
+mod fused;
+mod hard;
 mod metrics;
 mod proprioceptive;
 mod scenes;

@@ -81,7 +81,7 @@ struct Args {
     /// Small sizes: one run, two sequences, two Table I parts, a coarser head camera.
     #[arg(long)]
     quick: bool,
-    /// The discovery stage's articulation estimator: two-view or proprioceptive.
+    /// The discovery stage's articulation estimator: two-view, proprioceptive or fused.
     #[arg(long, default_value = "two-view")]
     estimator: String,
     /// The discovery stage's gravity prior (degrees): an estimated axis within this angle of

@@ -12,7 +12,7 @@ mod uncertainty;
 
 pub use settings::TwoViewSettings;
 
-use nalgebra::Point3;
+use nalgebra::{Isometry3, Point3};
 
 use self::change::{Changes, grow, seeds};
 use self::fit::{Fitter, initial_guesses, joint_of, refine, register, select};
@@ -91,11 +91,43 @@ impl ArticulationEstimator for TwoView {
 /// 7. **Uncertainty.** The Gauss–Newton covariance of the chosen model's point-to-plane
 ///    residuals at the fit (see `uncertainty.rs`), with the BIC posterior of the type.
 fn estimate(s: &TwoViewSettings, i: &Interaction<'_>) -> Estimate {
-    steps(s, i).unwrap_or_else(Estimate::unknown)
+    steps(s, i).map_or_else(Estimate::unknown, |(e, _)| e)
 }
 
-/// The steps of [`estimate`]; `Err` with the reason the joint is unknown.
-fn steps(s: &TwoViewSettings, i: &Interaction<'_>) -> Result<Estimate, String> {
+/// What the clouds say about the part's motion, for an estimator that fuses them with other
+/// sources ([`Fused`](super::Fused)).
+pub(crate) struct CloudEvidence {
+    /// The segmented part's points (pre pose, map frame).
+    pub(crate) part: Vec<Point3<f64>>,
+    /// The subset of `part` the registration uses.
+    pub(crate) sample: Vec<Point3<f64>>,
+    /// The change threshold τ (m): correspondences farther than this are not evidence.
+    pub(crate) tau: f64,
+    /// The occupied τ-voxels of the part: how many independent residuals the part is worth.
+    pub(crate) n_eff: f64,
+    /// The unconstrained rigid registration.
+    pub(crate) rigid: Isometry3<f64>,
+}
+
+/// The two-view estimate and, when the registration succeeded, its cloud evidence.
+///
+/// # Errors
+/// Bad input or settings, as [`TwoView::estimate`](ArticulationEstimator::estimate).
+pub(crate) fn estimate_with_evidence(
+    s: &TwoViewSettings,
+    i: &Interaction<'_>,
+) -> Result<(Estimate, Option<CloudEvidence>), ArticulationError> {
+    i.validate()?;
+    s.validate()?;
+    Ok(match steps(s, i) {
+        Ok((e, evidence)) => (e, Some(evidence)),
+        Err(reason) => (Estimate::unknown(reason), None),
+    })
+}
+
+/// The steps of [`estimate`] with the cloud evidence; `Err` with the reason the joint is
+/// unknown.
+fn steps(s: &TwoViewSettings, i: &Interaction<'_>) -> Result<(Estimate, CloudEvidence), String> {
     let (pre, post) = (&i.pre.points, &i.post.points);
     if pre.len() < s.min_part_points || post.len() < s.min_part_points {
         return Err(format!(
@@ -155,12 +187,20 @@ fn steps(s: &TwoViewSettings, i: &Interaction<'_>) -> Result<Estimate, String> {
         bic_probability(bic_chosen, bic_other),
     );
     let details = details(&c, part.len(), part_post.len(), &rigid, &selection, inliers);
-    Ok(Estimate {
+    let estimate = Estimate {
         joint,
         part_points: moving.iter().map(|&k| pre[k]).collect(),
         moving,
         score,
         details,
         uncertainty,
-    })
+    };
+    let evidence = CloudEvidence {
+        sample: fitter.sample,
+        part: source,
+        tau,
+        n_eff: selection.n_eff,
+        rigid: rigid.motion,
+    };
+    Ok((estimate, evidence))
 }

@@ -1,0 +1,181 @@
+//! The fused estimator on the hard classes (`hard.rs`): at least as good as the better single
+//! source, the right type, nothing NaN; the 95 % regions' coverage reported; one source alone
+//! reduces it to that source's estimator; settings are validated.
+
+use super::hard::{HardCase, HardTruth, hard_cases, observe};
+use super::*;
+
+use kinscene::articulation::{CHI2_2DOF_95, Fused, FusedSettings};
+
+/// Errors of one estimate against a hard case's truth: (type right, axis °, pivot m, axis and
+/// pivot inside the 95 % regions).
+fn hard_errors(c: &HardCase, e: &Estimate) -> (bool, f64, f64, bool) {
+    let inside = |d2: Option<f64>| d2.is_some_and(|d| d <= CHI2_2DOF_95);
+    match (&e.joint, c.truth) {
+        (
+            JointEstimate::Revolute { axis, pivot, .. },
+            HardTruth::Revolute {
+                axis: a, pivot: q, ..
+            },
+        ) => {
+            let u = e.uncertainty;
+            let covered = inside(u.map(|u| u.axis_mahalanobis_squared(axis, &a)))
+                && inside(u.and_then(|u| u.pivot_mahalanobis_squared(pivot, axis, &q, &a)));
+            (
+                true,
+                axis_angle_error(axis, &a),
+                axis_position_error(pivot, axis, &q, &a),
+                covered,
+            )
+        }
+        (JointEstimate::Prismatic { axis, .. }, HardTruth::Prismatic { axis: a, .. }) => {
+            let covered = inside(e.uncertainty.map(|u| u.axis_mahalanobis_squared(axis, &a)));
+            (true, axis_angle_error(axis, &a), 0.0, covered)
+        }
+        (j, _) => (
+            false,
+            j.axis()
+                .map_or(180.0, |x| x.angle(&Vector3::z()).to_degrees()),
+            0.0,
+            false,
+        ),
+    }
+}
+
+/// Over 3 seeds at σ = 5 mm on `case`: the fused estimate has the right type every time, a
+/// finite score and uncertainty, a mean axis error at most the better single source's (mean
+/// over the same seeds) plus 0.2°, and mean axis and pivot errors at most the two-view's.
+/// Measured (not asserted, it does not hold): the fused mean pivot error is up to 9 mm above
+/// the proprioceptive one on the small doors, where the clouds pull the angle low (8.4° for
+/// 10°). The 95 % region's coverage is printed, not asserted: 3/3 on the drawer, 0/3 on the
+/// doors (the clouds' bias is not in the covariance).
+fn fused_on(case_index: usize) {
+    let case = &hard_cases()[case_index];
+    let seeds = [1u64, 2, 3];
+    let estimators: [Box<dyn ArticulationEstimator>; 3] = [
+        Box::new(TwoView::default()),
+        Box::new(Proprioceptive::default()),
+        Box::new(Fused::default()),
+    ];
+    let mut sums = [[0.0f64; 2]; 3];
+    let mut covered = 0;
+    for &seed in &seeds {
+        let o = observe(case, 0.005, seed);
+        for (k, est) in estimators.iter().enumerate() {
+            let e = est.estimate(&o.interaction()).expect("valid input");
+            let (kind_ok, axis, pivot, inside) = hard_errors(case, &e);
+            let ctx = format!(
+                "{} seed {seed} {}: {axis:.2}° {pivot:.4} m\n{}",
+                case.name,
+                est.name(),
+                e.details
+            );
+            eprintln!("{ctx}");
+            // A wrong type counts as a 90° / 1 m error for the single sources.
+            sums[k][0] += if kind_ok { axis } else { 90.0 };
+            sums[k][1] += if kind_ok { pivot } else { 1.0 };
+            if k == 2 {
+                assert!(kind_ok, "wrong type: {ctx}");
+                assert!(
+                    e.score.is_finite() && (0.0..=1.0).contains(&e.score),
+                    "{ctx}"
+                );
+                let u = e
+                    .uncertainty
+                    .expect("a fused estimate carries its uncertainty");
+                assert!(u.axis_half_angle_95().is_finite(), "{ctx}");
+                assert!(u.type_probability.is_finite(), "{ctx}");
+                covered += usize::from(inside);
+            }
+        }
+    }
+    let n = seeds.len() as f64;
+    let mean = |k: usize, m: usize| sums[k][m] / n;
+    eprintln!(
+        "{}: mean axis two-view {:.2}° proprioceptive {:.2}° fused {:.2}°; pivot {:.4} / {:.4} / {:.4} m; fused 95 % coverage {covered}/3",
+        case.name,
+        mean(0, 0),
+        mean(1, 0),
+        mean(2, 0),
+        mean(0, 1),
+        mean(1, 1),
+        mean(2, 1)
+    );
+    assert!(
+        mean(2, 0) <= mean(0, 0).min(mean(1, 0)) + 0.2,
+        "{}: axis",
+        case.name
+    );
+    assert!(
+        mean(2, 0) <= mean(0, 0),
+        "{}: axis against two-view",
+        case.name
+    );
+    assert!(
+        mean(2, 1) <= mean(0, 1),
+        "{}: pivot against two-view",
+        case.name
+    );
+}
+
+#[test]
+fn fused_small_door() {
+    fused_on(0);
+}
+
+#[test]
+fn fused_sagging_door() {
+    fused_on(1);
+}
+
+#[test]
+fn fused_rotated_drawer() {
+    fused_on(2);
+}
+
+/// With no poses the fused estimate is the two-view one; with empty clouds it is the
+/// proprioceptive one.
+#[test]
+fn one_source_reduces_to_that_source() {
+    let case = &hard_cases()[0];
+    let o = observe(case, 0.002, 5);
+    let no_poses = Interaction {
+        ee_poses: &[],
+        ..o.interaction()
+    };
+    let fused = Fused::default().estimate(&no_poses).unwrap();
+    let two_view = TwoView::default().estimate(&no_poses).unwrap();
+    assert_eq!(fused.joint, two_view.joint);
+    assert_eq!(fused.uncertainty, two_view.uncertainty);
+    let poses_only = proprio_only(&o.ee_poses);
+    let fused = Fused::default().estimate(&poses_only).unwrap();
+    let proprioceptive = Proprioceptive::default().estimate(&poses_only).unwrap();
+    assert_eq!(fused.joint, proprioceptive.joint);
+    assert_eq!(fused.uncertainty, proprioceptive.uncertainty);
+}
+
+/// Bad settings are typed errors naming the field, checked before any work.
+#[test]
+fn fused_settings_are_validated() {
+    assert!(FusedSettings::default().validate().is_ok());
+    let bad = |settings: FusedSettings| {
+        let e = Fused { settings }.estimate(&proprio_only(&[])).unwrap_err();
+        let ArticulationError::InvalidSetting(s) = e else {
+            panic!("{e:?}")
+        };
+        s.to_string()
+    };
+    let msg = bad(FusedSettings {
+        plane_radius: f64::NAN,
+        ..Default::default()
+    });
+    assert!(msg.contains("plane_radius"), "{msg}");
+    let msg = bad(FusedSettings {
+        lm_iterations: 0,
+        ..Default::default()
+    });
+    assert!(msg.contains("lm_iterations"), "{msg}");
+    let mut settings = FusedSettings::default();
+    settings.two_view.trim_fraction = 0.0;
+    assert!(bad(settings).contains("trim_fraction"));
+}
