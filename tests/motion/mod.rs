@@ -3,3 +3,4 @@
 mod paths;
 mod placement;
 mod timing;
+mod whole_body;
