@@ -76,7 +76,7 @@ fn run(doors: &[(String, String, f64)]) -> Result<(), Box<dyn std::error::Error>
         ..PlacementSettings::default()
     };
     for (joint, handle, to) in doors {
-        let (Some(j), Some(h)) = (model.joint_id(joint), model.handle_id(handle)) else {
+        let (Ok(j), Ok(h)) = (model.joint_id(joint), model.handle_id(handle)) else {
             println!("{joint}: unknown joint or handle {handle:?}");
             continue;
         };

@@ -47,8 +47,7 @@ impl Prepared<'_> {
         base: [f64; 3],
         q: &DVector<f64>,
         k: usize,
-        manipulation: &ManipulationSettings,
-        settings: &WholeBodySettings,
+        (manipulation, settings): (&ManipulationSettings, &WholeBodySettings),
         scratch: &mut SceneData,
     ) -> Result<Option<WholeBodyFailure>, PlacementError> {
         let p = &self.problem;

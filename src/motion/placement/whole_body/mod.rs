@@ -287,6 +287,9 @@ pub fn plan_whole_body(
     Ok(WholeBodyOutcome::Tracked(plan))
 }
 
+/// A waypoint's base pose and arm configuration, or why there is none.
+type Reached = Result<([f64; 3], DVector<f64>), WholeBodyFailure>;
+
 /// The solvers and scratch of one [`plan_whole_body`].
 struct Run<'a> {
     prepared: &'a Prepared<'a>,
@@ -308,7 +311,7 @@ impl Run<'_> {
         start: [f64; 3],
         seed: &DVector<f64>,
         arm_first: bool,
-    ) -> Result<Result<([f64; 3], DVector<f64>), WholeBodyFailure>, PlacementError> {
+    ) -> Result<Reached, PlacementError> {
         let p = self.prepared;
         let (from, from_q) = prev.unwrap_or((start, seed));
         let world_from_base = RobotModel::world_from_base(from);
@@ -365,8 +368,7 @@ impl Run<'_> {
             base,
             &q,
             k,
-            self.manipulation,
-            self.settings,
+            (self.manipulation, self.settings),
             &mut self.scratch,
         )?;
         Ok(failure.map_or(Ok((base, q)), Err))
