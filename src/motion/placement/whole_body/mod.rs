@@ -207,9 +207,18 @@ impl WholeBodyOutcome {
 }
 
 /// Base poses and arm configurations that put the tool on every grasp frame of `motion`,
-/// starting from the base at `start` with the first IK seeded at `seed` (see the
-/// [module docs](self)). At the first waypoint the base may move from `start` within the step
-/// bounds when the arm alone cannot reach it; no segment is checked before it.
+/// starting from the base at `start` with the first IK seeded at `seed`. Per waypoint: the
+/// arm alone at the previous base pose (the fixed-base plan's IK and checks); else one IK over
+/// the base's displacement (forward, sideways for a holonomic base only, yaw; bounded by
+/// [`WholeBodySettings`]) and the arm, solved near the previous configuration through four
+/// intermediate grasp frames; if both fail, the last one to three waypoints are solved again
+/// with the base moving. Every whole-body waypoint is verified without the IK model: the
+/// robot's forward kinematics on the grasp frame, limits, joint jump, base step, sideways
+/// motion of a differential-drive base (at the mean yaw), self-collision, the contact rule,
+/// the base links against the whole scene, and the segment from the previous waypoint with
+/// base, arm and part interpolated together. At the first waypoint the base may move from
+/// `start` within the step bounds when the arm alone cannot reach it; no segment is checked
+/// before it.
 ///
 /// # Errors
 /// [`PlacementError::InvalidSetting`] for bad settings, [`PlacementError::NonFinite`] for a
