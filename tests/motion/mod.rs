@@ -4,3 +4,4 @@ mod edges;
 mod paths;
 mod placement;
 mod timing;
+mod whole_body;

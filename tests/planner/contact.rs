@@ -1062,7 +1062,7 @@ pub(super) fn counter_with_door() -> SceneModel {
 /// [`counter_with_door`]'s counter and door, the door `width` wide (y in
 /// [-width/2, width/2] closed, hinged at y = -width/2, the handle bar's centre 0.04 m from the
 /// free edge) and opening to `upper` rad.
-pub(super) fn counter_with_door_of(width: f64, upper: f64) -> SceneModel {
+pub(crate) fn counter_with_door_of(width: f64, upper: f64) -> SceneModel {
     let half = width / 2.0;
     let mut b = SceneModelBuilder::new();
     b.add_base_shape(kinscene::scene::BaseShape::new(

@@ -1,7 +1,7 @@
 //! The hierarchical planner end to end: task order, placement, OMPL paths, timing.
 
 mod base_joints;
-mod contact;
+pub(crate) mod contact;
 mod differential;
 mod goals;
 mod reach;

@@ -51,7 +51,7 @@ pub fn arm_reach(robot: &RobotModel) -> ArmReach {
 
 /// Moves each continuous joint of `q` by a multiple of 2π to within π of `prev` (the IK
 /// wraps unlimited angles into [−π, π); a trajectory must not jump by 2π).
-fn unwrap_continuous(robot: &RobotModel, q: &mut DVector<f64>, prev: &DVector<f64>) {
+pub(crate) fn unwrap_continuous(robot: &RobotModel, q: &mut DVector<f64>, prev: &DVector<f64>) {
     for (j, joint) in robot.arm_joints().iter().enumerate() {
         if joint.kind == ArmJointKind::Continuous {
             let d = q[j] - prev[j];
@@ -72,14 +72,14 @@ pub(crate) enum Cutoff {
 }
 
 /// One waypoint's IK problem.
-struct Attempt<'a> {
-    base: [f64; 3],
-    k: usize,
-    target: &'a IkTarget,
+pub(crate) struct Attempt<'a> {
+    pub base: [f64; 3],
+    pub k: usize,
+    pub target: &'a IkTarget,
     /// The previous configuration when it was reached (continue from it).
-    continuing: Option<&'a DVector<f64>>,
+    pub continuing: Option<&'a DVector<f64>>,
     /// The previous configuration, or the plan's seed at the first waypoint.
-    start: &'a DVector<f64>,
+    pub start: &'a DVector<f64>,
 }
 
 /// A joint motion prepared for repeated planning at different base poses: the scene's forward
@@ -318,7 +318,7 @@ impl<'a> Prepared<'a> {
     /// neighbouring part), again from `start` with the last arm joint turned by `2π·i/n`,
     /// `i = 1 .. n − 1` (`n` = [`ManipulationSettings::roll_attempts`]; another roll about the
     /// approach axis for the usual wrist), keeping the first success or else the first result.
-    fn solve_waypoint(
+    pub(crate) fn solve_waypoint(
         &self,
         a: &Attempt<'_>,
         settings: &ManipulationSettings,

@@ -80,6 +80,7 @@ mod plan;
 mod sampled;
 mod settings;
 mod symbolic;
+mod whole_body;
 
 use std::time::{Duration, Instant};
 
@@ -93,6 +94,9 @@ pub use plan::{ManipulationPlan, Obstacle, WaypointFailure};
 pub use settings::{
     MAX_STEPS, ManipulationSettings, OptimisationSettings, PlacementMethod, PlacementObjective,
     PlacementSettings, SamplingSettings,
+};
+pub use whole_body::{
+    WholeBodyFailure, WholeBodyOutcome, WholeBodyPlan, WholeBodySettings, plan_whole_body, sideways,
 };
 
 use crate::control::Termination;

@@ -1,0 +1,163 @@
+//! The verification of one whole-body waypoint, independent of the IK model that produced
+//! it: the robot's own forward kinematics, the joint limits and jumps, the base's step and
+//! (differential drive) sideways motion, and collisions at the waypoint and along the segment
+//! from the previous one with base, arm and part interpolated together.
+
+use nalgebra::DVector;
+
+use super::{WholeBodyFailure, WholeBodySettings};
+use crate::kinematics::robot::{BaseKind, RobotConfig};
+use crate::motion::placement::manipulation::Prepared;
+use crate::motion::placement::plan::WaypointFailure;
+use crate::motion::placement::{ManipulationSettings, PlacementError};
+use crate::scene::{SceneData, forward_kinematics};
+
+/// Slack on the base step bounds for the IK's round-off (m or rad).
+const STEP_SLACK: f64 = 1e-9;
+
+/// The previous waypoint's base pose and arm configuration.
+pub(super) type Previous<'a> = Option<([f64; 3], &'a DVector<f64>)>;
+
+/// The displacement from `from` to `to` in `from`'s base frame: forward (m), sideways (m),
+/// turn (rad).
+pub(crate) fn local_step(from: [f64; 3], to: [f64; 3]) -> [f64; 3] {
+    let (dx, dy) = (to[0] - from[0], to[1] - from[1]);
+    let (s, c) = from[2].sin_cos();
+    [c * dx + s * dy, -s * dx + c * dy, to[2] - from[2]]
+}
+
+/// The sideways displacement from `from` to `to` (m): across the heading at their mean yaw,
+/// the direction a differential-drive base moves along on the arc between them.
+pub fn sideways(from: [f64; 3], to: [f64; 3]) -> f64 {
+    let psi = 0.5 * (from[2] + to[2]);
+    -psi.sin() * (to[0] - from[0]) + psi.cos() * (to[1] - from[1])
+}
+
+/// `a + t (b − a)` for base poses.
+pub(crate) fn lerp_base(a: [f64; 3], b: [f64; 3], t: f64) -> [f64; 3] {
+    [0, 1, 2].map(|i| a[i] + t * (b[i] - a[i]))
+}
+
+impl Prepared<'_> {
+    /// Why waypoint `k` at `(base, q)` is not reached after `prev`, `None` if it is (see the
+    /// [module docs](self)).
+    pub(super) fn check_whole_body(
+        &self,
+        prev: Previous<'_>,
+        base: [f64; 3],
+        q: &DVector<f64>,
+        k: usize,
+        (manipulation, settings): (&ManipulationSettings, &WholeBodySettings),
+        scratch: &mut SceneData,
+    ) -> Result<Option<WholeBodyFailure>, PlacementError> {
+        let p = &self.problem;
+        let tool = p.robot.world_from_tool(&RobotConfig {
+            base,
+            arm: q.clone(),
+        })?;
+        let (position_error, rotation_error) = self.tool_errors(&tool, k, manipulation);
+        let in_limits = q
+            .iter()
+            .zip(self.lower.iter().zip(self.upper.iter()))
+            .all(|(v, (lo, hi))| (*lo..=*hi).contains(v));
+        if position_error > manipulation.position_tolerance
+            || rotation_error > manipulation.rotation_tolerance
+            || !in_limits
+        {
+            return Ok(Some(WholeBodyFailure::Waypoint(
+                WaypointFailure::OutOfTolerance {
+                    position_error,
+                    rotation_error,
+                },
+            )));
+        }
+        if let Some((from, prev_q)) = prev {
+            if let Some(f) = self.base_step_failure(from, base, settings) {
+                return Ok(Some(f));
+            }
+            let (joint, jump) = (q - prev_q)
+                .iter()
+                .map(|d| d.abs())
+                .enumerate()
+                .fold((0, 0.0), |b, (j, d)| if d > b.1 { (j, d) } else { b });
+            if jump > manipulation.max_joint_jump {
+                let failure = WaypointFailure::Jump { joint, jump };
+                return Ok(Some(WholeBodyFailure::Waypoint(failure)));
+            }
+        }
+        if let Some(o) = self.obstacle(base, q, &self.scene[k], manipulation.margin)? {
+            return Ok(Some(WholeBodyFailure::Waypoint(
+                WaypointFailure::Collision(o),
+            )));
+        }
+        match prev {
+            Some((from, prev_q)) => {
+                self.segment_failure((from, prev_q), (base, q), k, manipulation, scratch)
+            }
+            None => Ok(None),
+        }
+    }
+
+    /// The base's step from `from` to `to` beyond its bounds, or sideways for a
+    /// differential-drive base.
+    fn base_step_failure(
+        &self,
+        from: [f64; 3],
+        to: [f64; 3],
+        settings: &WholeBodySettings,
+    ) -> Option<WholeBodyFailure> {
+        let [forward, side, turn] = local_step(from, to);
+        let translation = forward.abs().max(side.abs());
+        if translation > settings.max_base_step + STEP_SLACK
+            || turn.abs() > settings.max_yaw_step + STEP_SLACK
+        {
+            return Some(WholeBodyFailure::BaseStep {
+                translation,
+                turn: turn.abs(),
+            });
+        }
+        let sideways = sideways(from, to).abs();
+        let differential = self.problem.robot.base().kind == BaseKind::DifferentialDrive;
+        (differential && sideways > settings.sideways_tolerance).then_some(
+            WholeBodyFailure::Sideways {
+                sideways,
+                tolerance: settings.sideways_tolerance,
+            },
+        )
+    }
+
+    /// The first collision on the way from `(from, prev)` to `(base, q)` at waypoint `k`:
+    /// base pose, arm and the joint's value interpolated linearly, checked at steps of at most
+    /// `segment_resolution` in every arm joint and in the base's motion (its translation plus
+    /// its turn times its footprint radius, the farthest any base point moves).
+    fn segment_failure(
+        &self,
+        (from, prev): ([f64; 3], &DVector<f64>),
+        (base, q): ([f64; 3], &DVector<f64>),
+        k: usize,
+        manipulation: &ManipulationSettings,
+        scratch: &mut SceneData,
+    ) -> Result<Option<WholeBodyFailure>, PlacementError> {
+        let p = &self.problem;
+        let radius = p.robot.base().footprint_radius;
+        let base_motion =
+            (base[0] - from[0]).hypot(base[1] - from[1]) + (base[2] - from[2]).abs() * radius;
+        let step = (q - prev).amax().max(base_motion);
+        let n = (step / manipulation.segment_resolution).ceil() as usize;
+        let (v0, v1) = (self.motion.values[k - 1], self.motion.values[k]);
+        for i in 1..n {
+            let t = i as f64 / n as f64;
+            let qi = prev + (q - prev) * t;
+            let mut s = p.state.clone();
+            s.set_unchecked(self.motion.joint, v0 + t * (v1 - v0));
+            forward_kinematics(p.model, scratch, &s)?;
+            let bi = lerp_base(from, base, t);
+            if let Some(o) = self.obstacle(bi, &qi, scratch, manipulation.margin)? {
+                return Ok(Some(WholeBodyFailure::Waypoint(
+                    WaypointFailure::SegmentCollision(o),
+                )));
+            }
+        }
+        Ok(None)
+    }
+}
