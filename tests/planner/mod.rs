@@ -11,7 +11,7 @@ use std::time::Duration;
 
 use kinscene::kinematics::pinocchio::{Data, forward_kinematics, frame_placement};
 use kinscene::kinematics::robot::{
-    Exempt, RobotCollision, RobotConfig, RobotModel, SphereSettings,
+    EdgeSettings, Exempt, RobotCollision, RobotConfig, RobotModel, SphereSettings,
 };
 use kinscene::planner::{
     Check, Contact, HierarchicalPlanner, MotionDocument, MotionInfeasibility, MotionOutcome,
@@ -492,4 +492,51 @@ fn the_sphere_fast_path_gives_the_same_plan_as_exact_checks() {
         ..PlannerSettings::default()
     });
     assert_eq!(fast, exact, "the sphere fast path changed the plan");
+}
+
+#[test]
+fn certified_arm_edges_plan_the_door_and_the_plan_rechecks() {
+    // The door of `the_sphere_fast_path_gives_the_same_plan_as_exact_checks` with OMPL's edges
+    // certified by the sphere model (conservative advancement) instead of sampled: a plan is
+    // found, and the independent re-checker of `contact.rs` (its own FK, parry distances,
+    // the finger rule, dense sampling) accepts it.
+    let model = contact::counter_with_door();
+    let problem = problem(
+        &model,
+        "[goal]\ndoor_hinge = { min = 1.5 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
+    );
+    let settings = PlannerSettings {
+        certified_arm_edges: Some(EdgeSettings::default()),
+        ..PlannerSettings::default()
+    };
+    let planner = HierarchicalPlanner::new(RobotModel::kinova_gen3_mobile(), settings)
+        .expect("valid settings");
+    let (planner, plan) = contact::solve_with(planner, &model, &problem);
+    let report =
+        contact::recheck(&planner, &model, &problem.start, &plan).unwrap_or_else(|v| panic!("{v}"));
+    eprintln!("certified edges: {report}");
+    // Certified edges need the sphere model, and their own settings are checked.
+    for (settings, field) in [
+        (
+            PlannerSettings {
+                certified_arm_edges: Some(EdgeSettings::default()),
+                arm_spheres: None,
+                ..PlannerSettings::default()
+            },
+            "arm_spheres",
+        ),
+        (
+            PlannerSettings {
+                certified_arm_edges: Some(EdgeSettings { min_step: 0.0 }),
+                ..PlannerSettings::default()
+            },
+            "certified_arm_edges.min_step",
+        ),
+    ] {
+        let err = HierarchicalPlanner::new(RobotModel::kinova_gen3_mobile(), settings).unwrap_err();
+        assert!(
+            matches!(&err, PlannerError::InvalidSetting(s) if s.field == field),
+            "{err}"
+        );
+    }
 }

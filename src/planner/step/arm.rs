@@ -4,8 +4,8 @@
 use super::StepReason;
 use super::refine::{ArmPaths, Placed, StepRefinement};
 use super::{Check, Failed, StepPath, check_manipulation, path_or_reason};
-use crate::kinematics::robot::Exempt;
-use crate::motion::paths::{first_invalid, plan_arm};
+use crate::kinematics::robot::{ArmEdgeCheck, EdgeScene, Exempt};
+use crate::motion::paths::{MotionCheck, first_invalid, plan_arm_with_motion};
 use crate::planner::PlannerError;
 use crate::planner::arm_check::ArmCheck;
 use crate::scene::{SceneData, forward_kinematics};
@@ -48,12 +48,30 @@ impl StepRefinement<'_, '_> {
     ) -> Result<Result<Vec<Vec<f64>>, Failed>, PlannerError> {
         let ctx = self.ctx;
         let (lower, upper) = ctx.robot.arm_bounds();
-        let outcome = plan_arm(
+        let edges = match (&ctx.settings.certified_arm_edges, ctx.spheres) {
+            (Some(settings), Some(spheres)) => Some(ArmEdgeCheck::new(
+                ctx.robot,
+                ctx.collision,
+                spheres,
+                EdgeScene {
+                    model: ctx.model,
+                    data: arm.data,
+                    exempt: arm.exempt,
+                    margin: arm.margin,
+                },
+                arm.base,
+                settings,
+            )?),
+            _ => None,
+        };
+        let certified = |a: &[f64], b: &[f64]| edges.as_ref().is_some_and(|e| e.check(a, b));
+        let outcome = plan_arm_with_motion(
             from,
             to,
             lower.as_slice(),
             upper.as_slice(),
             &|q: &[f64]| arm.valid(q),
+            edges.is_some().then_some(&certified as &MotionCheck<'_>),
             &ctx.settings.paths,
             ctx.termination,
         )?;
