@@ -246,6 +246,33 @@ impl<'a> Prepared<'a> {
         Ok(true)
     }
 
+    /// The tool at `(base, q)` off waypoint `k`'s grasp frame beyond the tolerances, or `q`
+    /// outside the joint limits: [`WaypointFailure::OutOfTolerance`] (`None` otherwise).
+    pub(crate) fn pose_failure(
+        &self,
+        base: [f64; 3],
+        q: &DVector<f64>,
+        k: usize,
+        settings: &ManipulationSettings,
+    ) -> Result<Option<WaypointFailure>, PlacementError> {
+        let world_from_tool = self.problem.robot.world_from_tool(&RobotConfig {
+            base,
+            arm: q.clone(),
+        })?;
+        let (position_error, rotation_error) = self.tool_errors(&world_from_tool, k, settings);
+        let in_limits = q
+            .iter()
+            .zip(self.lower.iter().zip(self.upper.iter()))
+            .all(|(v, (lo, hi))| (*lo..=*hi).contains(v));
+        let off = position_error > settings.position_tolerance
+            || rotation_error > settings.rotation_tolerance
+            || !in_limits;
+        Ok(off.then_some(WaypointFailure::OutOfTolerance {
+            position_error,
+            rotation_error,
+        }))
+    }
+
     /// Checks waypoint `k` at `(base, q)` against everything but IK convergence: tolerance,
     /// limits, jump from `prev` (the previous reached configuration, if any), collisions at the
     /// waypoint and along the segment from `prev`.
@@ -259,23 +286,8 @@ impl<'a> Prepared<'a> {
         scratch: &mut SceneData,
     ) -> Result<Option<WaypointFailure>, PlacementError> {
         let p = &self.problem;
-        let world_from_tool = p.robot.world_from_tool(&RobotConfig {
-            base,
-            arm: q.clone(),
-        })?;
-        let (position_error, rotation_error) = self.tool_errors(&world_from_tool, k, settings);
-        let in_limits = q
-            .iter()
-            .zip(self.lower.iter().zip(self.upper.iter()))
-            .all(|(v, (lo, hi))| (*lo..=*hi).contains(v));
-        if position_error > settings.position_tolerance
-            || rotation_error > settings.rotation_tolerance
-            || !in_limits
-        {
-            return Ok(Some(WaypointFailure::OutOfTolerance {
-                position_error,
-                rotation_error,
-            }));
+        if let Some(f) = self.pose_failure(base, q, k, settings)? {
+            return Ok(Some(f));
         }
         if let Some(prev) = prev {
             let (joint, jump) =

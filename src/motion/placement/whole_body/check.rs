@@ -6,7 +6,7 @@
 use nalgebra::DVector;
 
 use super::{WholeBodyFailure, WholeBodySettings};
-use crate::kinematics::robot::{BaseKind, RobotConfig};
+use crate::kinematics::robot::BaseKind;
 use crate::motion::placement::manipulation::Prepared;
 use crate::motion::placement::plan::WaypointFailure;
 use crate::motion::placement::{ManipulationSettings, PlacementError};
@@ -50,26 +50,8 @@ impl Prepared<'_> {
         (manipulation, settings): (&ManipulationSettings, &WholeBodySettings),
         scratch: &mut SceneData,
     ) -> Result<Option<WholeBodyFailure>, PlacementError> {
-        let p = &self.problem;
-        let tool = p.robot.world_from_tool(&RobotConfig {
-            base,
-            arm: q.clone(),
-        })?;
-        let (position_error, rotation_error) = self.tool_errors(&tool, k, manipulation);
-        let in_limits = q
-            .iter()
-            .zip(self.lower.iter().zip(self.upper.iter()))
-            .all(|(v, (lo, hi))| (*lo..=*hi).contains(v));
-        if position_error > manipulation.position_tolerance
-            || rotation_error > manipulation.rotation_tolerance
-            || !in_limits
-        {
-            return Ok(Some(WholeBodyFailure::Waypoint(
-                WaypointFailure::OutOfTolerance {
-                    position_error,
-                    rotation_error,
-                },
-            )));
+        if let Some(f) = self.pose_failure(base, q, k, manipulation)? {
+            return Ok(Some(WholeBodyFailure::Waypoint(f)));
         }
         if let Some((from, prev_q)) = prev {
             if let Some(f) = self.base_step_failure(from, base, settings) {
