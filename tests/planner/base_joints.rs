@@ -53,6 +53,17 @@ fn gen3_on_base_joints() -> (PathBuf, PathBuf) {
     (urdf, description)
 }
 
+/// The re-checker's geometry: the wrapped URDF with the base joints held at 0.
+fn on_joints(urdf: PathBuf) -> RobotGeometry {
+    RobotGeometry {
+        urdf,
+        frozen: ["base_x", "base_y", "base_yaw"]
+            .map(|j| (j.to_string(), 0.0))
+            .to_vec(),
+        ..RobotGeometry::gen3()
+    }
+}
+
 #[test]
 fn a_base_modelled_as_joints_plans_the_drawer_and_the_plan_rechecks() {
     let (urdf, description) = gen3_on_base_joints();
@@ -66,14 +77,7 @@ fn a_base_modelled_as_joints_plans_the_drawer_and_the_plan_rechecks() {
         "[goal]\ndrawer_slide = { min = 0.25 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
     );
     let (planner, plan) = solve_with(planner, &model, &problem);
-    let geometry = RobotGeometry {
-        urdf,
-        frozen: ["base_x", "base_y", "base_yaw"]
-            .map(|j| (j.to_string(), 0.0))
-            .to_vec(),
-        ..RobotGeometry::gen3()
-    };
-    let report = recheck_robot(&geometry, &planner, &model, &problem.start, &plan)
+    let report = recheck_robot(&on_joints(urdf), &planner, &model, &problem.start, &plan)
         .unwrap_or_else(|v| panic!("{v}"));
     eprintln!("base joints: {report}");
     assert!(report.contact_samples > 0);
@@ -99,14 +103,7 @@ fn a_base_modelled_as_joints_opens_the_door_then_the_drawer() {
         order[..first_drawer].contains(&"door_hinge"),
         "the door opens first: {order:?}"
     );
-    let geometry = RobotGeometry {
-        urdf,
-        frozen: ["base_x", "base_y", "base_yaw"]
-            .map(|j| (j.to_string(), 0.0))
-            .to_vec(),
-        ..RobotGeometry::gen3()
-    };
-    let report = recheck_robot(&geometry, &planner, &model, &problem.start, &plan)
+    let report = recheck_robot(&on_joints(urdf), &planner, &model, &problem.start, &plan)
         .unwrap_or_else(|v| panic!("{v}"));
     eprintln!("base joints, door then drawer {order:?}: {report}");
     assert!(report.contact_samples > 0);
