@@ -16,7 +16,25 @@ pub(super) fn build(
     last_from_tool: &Isometry3<f64>,
 ) -> Result<(Model, FrameIndex), RobotError> {
     let mut builder = ModelBuilder::new();
-    let mut parent = JointIndex::UNIVERSE;
+    let parent = add_arm(
+        &mut builder,
+        JointIndex::UNIVERSE,
+        joints,
+        base_from_arm_root,
+    )?;
+    let tool = builder.add_frame(TOOL_FRAME, parent, *last_from_tool)?;
+    Ok((builder.build()?, tool))
+}
+
+/// Adds the arm's joints to `builder` as a chain below `root` (the first one placed by
+/// `base_from_arm_root` in `root`'s frame); returns the last joint.
+fn add_arm(
+    builder: &mut ModelBuilder,
+    root: JointIndex,
+    joints: &[ArmJoint],
+    base_from_arm_root: &Isometry3<f64>,
+) -> Result<JointIndex, RobotError> {
+    let mut parent = root;
     for (i, joint) in joints.iter().enumerate() {
         let axis = joint.axis.into_inner();
         let (kind, limits) = match joint.kind {
@@ -44,6 +62,21 @@ pub(super) fn build(
             limits.with_velocity(joint.max_velocity),
         )?;
     }
-    let tool = builder.add_frame(TOOL_FRAME, parent, *last_from_tool)?;
-    Ok((builder.build()?, tool))
+    Ok(parent)
+}
+
+impl super::RobotModel {
+    /// Adds this robot's arm to a Pinocchio model under construction, as a chain below `root`
+    /// placed as the base places the arm (for models that put more joints, such as a moving
+    /// base, above the arm); returns the arm's last joint.
+    ///
+    /// # Errors
+    /// [`RobotError`] if Pinocchio refuses a joint.
+    pub(crate) fn add_arm_to(
+        &self,
+        builder: &mut ModelBuilder,
+        root: JointIndex,
+    ) -> Result<JointIndex, RobotError> {
+        add_arm(builder, root, self.arm_joints(), self.base_from_arm_root())
+    }
 }

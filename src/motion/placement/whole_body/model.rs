@@ -7,7 +7,7 @@ use nalgebra::{DVector, Isometry3, Vector3};
 
 use super::WholeBodySettings;
 use crate::kinematics::ik::{IkSettings, IkSolver};
-use crate::kinematics::robot::{ArmJointKind, BaseKind, RobotModel};
+use crate::kinematics::robot::{BaseKind, RobotModel};
 use crate::motion::placement::PlacementError;
 
 /// The robot with its base displacement as joints: for a holonomic base a prismatic joint
@@ -98,32 +98,7 @@ fn build(
         JointKind::Revolute { axis: Vector3::z() },
         JointLimits::position(-settings.max_yaw_step, settings.max_yaw_step),
     )?;
-    for (i, joint) in robot.arm_joints().iter().enumerate() {
-        let axis = joint.axis.into_inner();
-        let (kind, limits) = match joint.kind {
-            ArmJointKind::Revolute => (
-                JointKind::Revolute { axis },
-                JointLimits::position(joint.lower, joint.upper),
-            ),
-            ArmJointKind::Continuous => (JointKind::Revolute { axis }, JointLimits::NONE),
-            ArmJointKind::Prismatic => (
-                JointKind::Prismatic { axis },
-                JointLimits::position(joint.lower, joint.upper),
-            ),
-        };
-        let placement = if i == 0 {
-            robot.base_from_arm_root() * joint.parent_from_joint
-        } else {
-            joint.parent_from_joint
-        };
-        parent = b.add_joint(
-            &joint.name,
-            parent,
-            placement,
-            kind,
-            limits.with_velocity(joint.max_velocity),
-        )?;
-    }
+    parent = robot.add_arm_to(&mut b, parent)?;
     let tool = b.add_frame("tool", parent, *robot.last_from_tool())?;
     Ok((b.build()?, tool, base_dofs))
 }
