@@ -366,7 +366,7 @@ fn main() {
         );
     }
     println!(
-        "median ratios exact / fast path: {:.2}, certified / fast path: {:.2} (targets of issue 23: 100 % of solvable, median <= 1 ms, p95 <= 20 ms)",
+        "median ratios exact / fast path: {:.2}, certified / fast path: {:.2} (targets: 100 % of solvable, median <= 1 ms, p95 <= 20 ms)",
         medians[0].as_secs_f64() / medians[1].as_secs_f64().max(1e-12),
         medians[2].as_secs_f64() / medians[1].as_secs_f64().max(1e-12)
     );

@@ -2,45 +2,10 @@
 //! source, the right type, nothing NaN; the 95 % regions' coverage reported; one source alone
 //! reduces it to that source's estimator; settings are validated.
 
-use super::hard::{HardCase, HardTruth, hard_cases, observe};
+use super::hard::{hard_cases, observe};
 use super::*;
 
-use kinscene::articulation::{CHI2_2DOF_95, Fused, FusedSettings};
-
-/// Errors of one estimate against a hard case's truth: (type right, axis °, pivot m, axis and
-/// pivot inside the 95 % regions).
-fn hard_errors(c: &HardCase, e: &Estimate) -> (bool, f64, f64, bool) {
-    let inside = |d2: Option<f64>| d2.is_some_and(|d| d <= CHI2_2DOF_95);
-    match (&e.joint, c.truth) {
-        (
-            JointEstimate::Revolute { axis, pivot, .. },
-            HardTruth::Revolute {
-                axis: a, pivot: q, ..
-            },
-        ) => {
-            let u = e.uncertainty;
-            let covered = inside(u.map(|u| u.axis_mahalanobis_squared(axis, &a)))
-                && inside(u.and_then(|u| u.pivot_mahalanobis_squared(pivot, axis, &q, &a)));
-            (
-                true,
-                axis_angle_error(axis, &a),
-                axis_position_error(pivot, axis, &q, &a),
-                covered,
-            )
-        }
-        (JointEstimate::Prismatic { axis, .. }, HardTruth::Prismatic { axis: a, .. }) => {
-            let covered = inside(e.uncertainty.map(|u| u.axis_mahalanobis_squared(axis, &a)));
-            (true, axis_angle_error(axis, &a), 0.0, covered)
-        }
-        (j, _) => (
-            false,
-            j.axis()
-                .map_or(180.0, |x| x.angle(&Vector3::z()).to_degrees()),
-            0.0,
-            false,
-        ),
-    }
-}
+use kinscene::articulation::{Fused, FusedSettings};
 
 /// Over 3 seeds at σ = 5 mm on `case`: the fused estimate has the right type every time, a
 /// finite score and uncertainty, a mean axis error at most the better single source's (mean
@@ -63,7 +28,9 @@ fn fused_on(case_index: usize) {
         let o = observe(case, 0.005, seed);
         for (k, est) in estimators.iter().enumerate() {
             let e = est.estimate(&o.interaction()).expect("valid input");
-            let (kind_ok, axis, pivot, inside) = hard_errors(case, &e);
+            let r = case.truth.errors(&e);
+            let (kind_ok, axis, pivot, inside) =
+                (r.kind_ok, r.axis_deg, r.pivot_m.unwrap_or(0.0), r.covered);
             let ctx = format!(
                 "{} seed {seed} {}: {axis:.2}° {pivot:.4} m\n{}",
                 case.name,

@@ -1,12 +1,15 @@
-//! The hard classes of issue 22, self-contained (the fusion bench includes this file too):
-//! a small door (0.25 m) opened 10°, the same door on a sagging hinge (axis leaning 4° in the
-//! door's plane) opened 15°, and a drawer pulled 12 cm out of a carcass turned 20°. Clouds are
-//! ray-cast partial views with the carcass, a floor and a wall in view; the gripper path has
-//! 60 poses with 2 mm / 1° noise and a free wrist roll (a random walk about the approach
-//! axis), as in the issue's measurements.
+//! The hard classes of articulation estimation, self-contained (the fusion bench includes
+//! this file too): a small door (0.25 m) opened 10°, the same door on a sagging hinge (axis
+//! leaning 4° in the door's plane) opened 15°, and a drawer pulled 12 cm out of a carcass
+//! turned 20°. Clouds are ray-cast partial views with the carcass, a floor and a wall in view;
+//! the gripper path has 60 poses with 2 mm / 1° noise and a free wrist roll (a random walk
+//! about the approach axis).
 
 use kinscene::articulation::synthetic::{DepthCamera, DepthNoise, SyntheticBox, render};
-use kinscene::articulation::{Interaction, PointCloud, Screw};
+use kinscene::articulation::{
+    CHI2_2DOF_95, Estimate, Interaction, JointEstimate, JointKindEstimate, PointCloud, Screw,
+    axis_angle_error, axis_position_error,
+};
 use nalgebra::{Isometry3, Point3, Translation3, Unit, UnitQuaternion, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -47,6 +50,60 @@ impl HardTruth {
             }
         }
     }
+
+    /// How estimate `e` compares with this truth.
+    pub fn errors(&self, e: &Estimate) -> HardErrors {
+        let inside = |d: Option<f64>| d.is_some_and(|d| d <= CHI2_2DOF_95);
+        let u = e.uncertainty;
+        match (&e.joint, *self) {
+            (
+                JointEstimate::Revolute { axis, pivot, .. },
+                HardTruth::Revolute {
+                    axis: a, pivot: q, ..
+                },
+            ) => HardErrors {
+                kind_ok: true,
+                axis_deg: axis_angle_error(axis, &a),
+                pivot_m: Some(axis_position_error(pivot, axis, &q, &a)),
+                covered: inside(u.map(|u| u.axis_mahalanobis_squared(axis, &a)))
+                    && inside(u.and_then(|u| u.pivot_mahalanobis_squared(pivot, axis, &q, &a))),
+            },
+            (JointEstimate::Prismatic { axis, .. }, HardTruth::Prismatic { axis: a, .. }) => {
+                HardErrors {
+                    kind_ok: true,
+                    axis_deg: axis_angle_error(axis, &a),
+                    pivot_m: None,
+                    covered: inside(u.map(|u| u.axis_mahalanobis_squared(axis, &a))),
+                }
+            }
+            _ => HardErrors {
+                kind_ok: false,
+                axis_deg: f64::NAN,
+                pivot_m: None,
+                covered: false,
+            },
+        }
+    }
+
+    /// The joint type.
+    pub fn kind(&self) -> JointKindEstimate {
+        match self {
+            HardTruth::Revolute { .. } => JointKindEstimate::Revolute,
+            HardTruth::Prismatic { .. } => JointKindEstimate::Prismatic,
+        }
+    }
+}
+
+/// An estimate against a hard case's truth.
+pub struct HardErrors {
+    /// The joint type is right (the other fields are NaN / `None` / false otherwise).
+    pub kind_ok: bool,
+    /// Axis angle error (°).
+    pub axis_deg: f64,
+    /// Pivot error (m), revolute joints.
+    pub pivot_m: Option<f64>,
+    /// The axis (and, revolute, the pivot) inside the estimate's 95 % regions.
+    pub covered: bool,
 }
 
 /// One hard scene.

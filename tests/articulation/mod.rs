@@ -34,44 +34,7 @@ use scenes::scenarios;
 const PART: usize = 1;
 
 /// A known joint and how far it moves between the observations.
-#[derive(Debug, Clone, Copy)]
-enum Truth {
-    Revolute {
-        axis: Unit<Vector3<f64>>,
-        pivot: Point3<f64>,
-        angle: f64,
-    },
-    Prismatic {
-        axis: Unit<Vector3<f64>>,
-        distance: f64,
-    },
-}
-
-impl Truth {
-    /// The part's map-frame motion after `fraction` of the full joint travel.
-    fn motion(&self, fraction: f64) -> Isometry3<f64> {
-        match *self {
-            Truth::Revolute { axis, pivot, angle } => Screw {
-                axis,
-                point: pivot,
-                angle: angle * fraction,
-                translation: 0.0,
-            }
-            .to_isometry(),
-            Truth::Prismatic { axis, distance } => Isometry3::from_parts(
-                Translation3::from(axis.into_inner() * distance * fraction),
-                UnitQuaternion::identity(),
-            ),
-        }
-    }
-
-    fn kind(&self) -> JointKindEstimate {
-        match self {
-            Truth::Revolute { .. } => JointKindEstimate::Revolute,
-            Truth::Prismatic { .. } => JointKindEstimate::Prismatic,
-        }
-    }
-}
+use hard::HardTruth as Truth;
 
 /// A scene with one articulated part.
 struct Scenario {

@@ -1,4 +1,4 @@
-(** * Reduction: the search's partial-order reduction (issue 24) — sound and complete.
+(** * Reduction: the search's partial-order reduction — sound and complete.
 
     Models [Interaction::reduced_component] (src/task/interaction.rs) and its use in
     [push_moves] (src/task/search/expand.rs, [reduced_joints]): in a state [k] whose goal is

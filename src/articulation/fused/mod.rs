@@ -272,14 +272,7 @@ fn joint_of(state: &State) -> JointEstimate {
 /// `tangent_basis(axis)`, see [`State`]).
 fn uncertainty_of(state: &State, cov: &DMatrix<f64>, type_probability: f64) -> Uncertainty {
     let basis = tangent_basis(&state.axis);
-    let block = |r: usize| {
-        Matrix2::new(
-            cov[(r, r)],
-            cov[(r, r + 1)],
-            cov[(r + 1, r)],
-            cov[(r + 1, r + 1)],
-        )
-    };
+    let block = |r: usize| -> Matrix2<f64> { cov.fixed_view::<2, 2>(r, r).into_owned() };
     Uncertainty {
         type_probability,
         axis: PlaneCovariance {

@@ -6,6 +6,7 @@ use nalgebra::{Isometry3, Matrix3, Point3, Unit, Vector2, Vector3};
 
 use super::model::{Kind, PathPose, State};
 use crate::articulation::estimate::{Estimate, JointEstimate};
+use crate::articulation::proprioceptive::kasa_circle;
 use crate::articulation::screw::Screw;
 use crate::articulation::uncertainty::tangent_basis;
 
@@ -116,20 +117,13 @@ fn algebraic_circle(poses: &[PathPose], axis: &Unit<Vector3<f64>>) -> Option<Poi
         .iter()
         .map(|p| Vector2::new(e1.dot(&p.position.coords), e2.dot(&p.position.coords)))
         .collect();
-    // x² + y² = 2 a x + 2 b y + c, linear least squares.
-    let (mut ata, mut atb) = (Matrix3::zeros(), Vector3::zeros());
-    for p in &q {
-        let row = Vector3::new(2.0 * p.x, 2.0 * p.y, 1.0);
-        ata += row * row.transpose();
-        atb += row * p.norm_squared();
-    }
-    let sol = ata.try_inverse()? * atb;
+    let (centre, _) = kasa_circle(&q)?;
     let height = poses
         .iter()
         .map(|p| axis.dot(&p.position.coords))
         .sum::<f64>()
         / poses.len() as f64;
-    let c = e1.into_inner() * sol.x + e2.into_inner() * sol.y + axis.into_inner() * height;
+    let c = e1.into_inner() * centre.x + e2.into_inner() * centre.y + axis.into_inner() * height;
     c.iter().all(|v| v.is_finite()).then_some(Point3::from(c))
 }
 

@@ -17,6 +17,7 @@ use estimate::estimate;
 pub use noise::{
     MIN_NOISE_POSES, MIN_ORIENTATION_SIGMA, MIN_POSITION_SIGMA, PathNoise, path_noise,
 };
+pub(crate) use refine::kasa_circle;
 pub use settings::{NoiseSource, OrientationModel, ProprioceptiveSettings};
 
 /// The proprioceptive estimator (see the module docs of [`super`]).

@@ -162,9 +162,10 @@ fn pair_scatter(inl: &[usize], f: impl Fn(usize, usize) -> Vector3<f64>) -> Matr
     sum * 2.0 / (inl.len() as f64 - 1.0).max(1.0)
 }
 
-/// Algebraic (Kåsa) circle fit refined by Gauss–Newton on the geometric distances.
-fn fit_circle_2d(q: &[Vector2<f64>]) -> Option<(Vector2<f64>, f64)> {
-    // Kåsa: x² + y² = 2 a x + 2 b y + c, linear least squares.
+/// The algebraic (Kåsa) circle through planar points: `x² + y² = 2 a x + 2 b y + c` by linear
+/// least squares; its centre `(a, b)` and squared radius `c + a² + b²` (`None` when the normal
+/// equations are singular; the radius is not checked).
+pub(crate) fn kasa_circle(q: &[Vector2<f64>]) -> Option<(Vector2<f64>, f64)> {
     let mut ata = Matrix3::zeros();
     let mut atb = Vector3::zeros();
     for p in q {
@@ -173,8 +174,13 @@ fn fit_circle_2d(q: &[Vector2<f64>]) -> Option<(Vector2<f64>, f64)> {
         atb += row * p.norm_squared();
     }
     let sol = ata.try_inverse()? * atb;
-    let mut center = Vector2::new(sol.x, sol.y);
-    let r2 = sol.z + center.norm_squared();
+    let center = Vector2::new(sol.x, sol.y);
+    Some((center, sol.z + center.norm_squared()))
+}
+
+/// Algebraic (Kåsa) circle fit refined by Gauss–Newton on the geometric distances.
+fn fit_circle_2d(q: &[Vector2<f64>]) -> Option<(Vector2<f64>, f64)> {
+    let (mut center, r2) = kasa_circle(q)?;
     if r2.is_nan() || r2 <= 0.0 || !r2.is_finite() {
         return None;
     }

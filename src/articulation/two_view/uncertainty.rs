@@ -156,14 +156,7 @@ impl JointModel {
 
     /// The axis and pivot regions of the parameter covariance `cov`.
     fn uncertainty(&self, cov: &DMatrix<f64>, type_probability: f64) -> Uncertainty {
-        let block = |r: usize| {
-            Matrix2::new(
-                cov[(r, r)],
-                cov[(r, r + 1)],
-                cov[(r + 1, r)],
-                cov[(r + 1, r + 1)],
-            )
-        };
+        let block = |r: usize| -> Matrix2<f64> { cov.fixed_view::<2, 2>(r, r).into_owned() };
         match self {
             JointModel::Rotation { basis, .. } => Uncertainty {
                 type_probability,

@@ -285,7 +285,6 @@ impl<'a> Prepared<'a> {
         settings: &ManipulationSettings,
         scratch: &mut SceneData,
     ) -> Result<Option<WaypointFailure>, PlacementError> {
-        let p = &self.problem;
         if let Some(f) = self.pose_failure(base, q, k, settings)? {
             return Ok(Some(f));
         }
@@ -306,19 +305,44 @@ impl<'a> Prepared<'a> {
         if let Some(o) = self.obstacle(base, q, &self.scene[k], settings.margin)? {
             return Ok(Some(WaypointFailure::Collision(o)));
         }
-        if let Some(prev) = prev {
-            let step = (q - prev).amax();
-            let n = (step / settings.segment_resolution).ceil() as usize;
-            let (v0, v1) = (self.motion.values[k - 1], self.motion.values[k]);
-            for i in 1..n {
-                let t = i as f64 / n as f64;
-                let qi = prev + (q - prev) * t;
-                let mut s = p.state.clone();
-                s.set_unchecked(self.motion.joint, v0 + t * (v1 - v0));
-                forward_kinematics(p.model, scratch, &s)?;
-                if let Some(o) = self.obstacle(base, &qi, scratch, settings.margin)? {
-                    return Ok(Some(WaypointFailure::SegmentCollision(o)));
-                }
+        if let Some(prev) = prev
+            && let Some(o) =
+                self.segment_collision((base, prev), (base, q), k, settings, scratch)?
+        {
+            return Ok(Some(WaypointFailure::SegmentCollision(o)));
+        }
+        Ok(None)
+    }
+
+    /// The first collision on the way from `(from, prev)` at waypoint `k − 1` to `(base, q)` at
+    /// waypoint `k`: base pose, arm and the joint's value interpolated linearly, checked at
+    /// steps of at most `segment_resolution` in every arm joint and in the base's motion (its
+    /// translation plus its turn times its footprint radius, the farthest any base point
+    /// moves; 0 for a fixed base).
+    pub(crate) fn segment_collision(
+        &self,
+        (from, prev): ([f64; 3], &DVector<f64>),
+        (base, q): ([f64; 3], &DVector<f64>),
+        k: usize,
+        settings: &ManipulationSettings,
+        scratch: &mut SceneData,
+    ) -> Result<Option<Obstacle>, PlacementError> {
+        let p = &self.problem;
+        let radius = p.robot.base().footprint_radius;
+        let base_motion =
+            (base[0] - from[0]).hypot(base[1] - from[1]) + (base[2] - from[2]).abs() * radius;
+        let step = (q - prev).amax().max(base_motion);
+        let n = (step / settings.segment_resolution).ceil() as usize;
+        let (v0, v1) = (self.motion.values[k - 1], self.motion.values[k]);
+        for i in 1..n {
+            let t = i as f64 / n as f64;
+            let qi = prev + (q - prev) * t;
+            let mut s = p.state.clone();
+            s.set_unchecked(self.motion.joint, v0 + t * (v1 - v0));
+            forward_kinematics(p.model, scratch, &s)?;
+            let bi = [0, 1, 2].map(|i| from[i] + t * (base[i] - from[i]));
+            if let Some(o) = self.obstacle(bi, &qi, scratch, settings.margin)? {
+                return Ok(Some(o));
             }
         }
         Ok(None)

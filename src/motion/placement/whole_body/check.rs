@@ -10,7 +10,7 @@ use crate::kinematics::robot::BaseKind;
 use crate::motion::placement::manipulation::Prepared;
 use crate::motion::placement::plan::WaypointFailure;
 use crate::motion::placement::{ManipulationSettings, PlacementError};
-use crate::scene::{SceneData, forward_kinematics};
+use crate::scene::SceneData;
 
 /// Slack on the base step bounds for the IK's round-off (m or rad).
 const STEP_SLACK: f64 = 1e-9;
@@ -31,11 +31,6 @@ pub(crate) fn local_step(from: [f64; 3], to: [f64; 3]) -> [f64; 3] {
 pub fn sideways(from: [f64; 3], to: [f64; 3]) -> f64 {
     let psi = 0.5 * (from[2] + to[2]);
     -psi.sin() * (to[0] - from[0]) + psi.cos() * (to[1] - from[1])
-}
-
-/// `a + t (b − a)` for base poses.
-pub(crate) fn lerp_base(a: [f64; 3], b: [f64; 3], t: f64) -> [f64; 3] {
-    [0, 1, 2].map(|i| a[i] + t * (b[i] - a[i]))
 }
 
 impl Prepared<'_> {
@@ -72,12 +67,11 @@ impl Prepared<'_> {
                 WaypointFailure::Collision(o),
             )));
         }
-        match prev {
-            Some((from, prev_q)) => {
-                self.segment_failure((from, prev_q), (base, q), k, manipulation, scratch)
-            }
-            None => Ok(None),
-        }
+        let Some(prev) = prev else {
+            return Ok(None);
+        };
+        let hit = self.segment_collision(prev, (base, q), k, manipulation, scratch)?;
+        Ok(hit.map(|o| WholeBodyFailure::Waypoint(WaypointFailure::SegmentCollision(o))))
     }
 
     /// The base's step from `from` to `to` beyond its bounds, or sideways for a
@@ -106,40 +100,5 @@ impl Prepared<'_> {
                 tolerance: settings.sideways_tolerance,
             },
         )
-    }
-
-    /// The first collision on the way from `(from, prev)` to `(base, q)` at waypoint `k`:
-    /// base pose, arm and the joint's value interpolated linearly, checked at steps of at most
-    /// `segment_resolution` in every arm joint and in the base's motion (its translation plus
-    /// its turn times its footprint radius, the farthest any base point moves).
-    fn segment_failure(
-        &self,
-        (from, prev): ([f64; 3], &DVector<f64>),
-        (base, q): ([f64; 3], &DVector<f64>),
-        k: usize,
-        manipulation: &ManipulationSettings,
-        scratch: &mut SceneData,
-    ) -> Result<Option<WholeBodyFailure>, PlacementError> {
-        let p = &self.problem;
-        let radius = p.robot.base().footprint_radius;
-        let base_motion =
-            (base[0] - from[0]).hypot(base[1] - from[1]) + (base[2] - from[2]).abs() * radius;
-        let step = (q - prev).amax().max(base_motion);
-        let n = (step / manipulation.segment_resolution).ceil() as usize;
-        let (v0, v1) = (self.motion.values[k - 1], self.motion.values[k]);
-        for i in 1..n {
-            let t = i as f64 / n as f64;
-            let qi = prev + (q - prev) * t;
-            let mut s = p.state.clone();
-            s.set_unchecked(self.motion.joint, v0 + t * (v1 - v0));
-            forward_kinematics(p.model, scratch, &s)?;
-            let bi = lerp_base(from, base, t);
-            if let Some(o) = self.obstacle(bi, &qi, scratch, manipulation.margin)? {
-                return Ok(Some(WholeBodyFailure::Waypoint(
-                    WaypointFailure::SegmentCollision(o),
-                )));
-            }
-        }
-        Ok(None)
     }
 }
