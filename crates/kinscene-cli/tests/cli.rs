@@ -426,6 +426,27 @@ fn plan_reports_the_corner_doors_as_infeasible_naming_both() {
     assert!(doc["reason"].as_str().is_some_and(|r| !r.is_empty()));
 }
 
+/// The dishwasher door fully open with the rack out (goals/dishwasher_rack_out.toml): the
+/// disc robot meets each target alone but not both (the island leaves the lowered door's front
+/// no free cell), and the Gen3 cannot hold the lowered door's handle from any free cell; both
+/// verdicts come from the task level, name the joints, and the Gen3's gives the arm span.
+#[test]
+fn plan_reports_the_open_dishwasher_with_its_rack_out_as_infeasible_with_its_reason() {
+    let goal = goal_path("dishwasher_rack_out.toml");
+    let output = plan_kitchen(&goal, &[]);
+    assert_eq!(output.status.code(), Some(3));
+    let line = verdict_line(&output, "infeasible: ");
+    assert!(
+        line.contains("dishwasher_door_hinge") && line.contains("dishwasher_rack_slide"),
+        "{line}"
+    );
+    let output = plan_kitchen(&goal, &["--robot", "gen3", "--budget", "10s"]);
+    assert_eq!(output.status.code(), Some(3));
+    let line = verdict_line(&output, "infeasible: ");
+    assert!(line.contains("dishwasher_door_hinge"), "{line}");
+    assert!(line.contains("spans at most"), "{line}");
+}
+
 #[test]
 fn validate_checks_the_steps_of_an_infeasible_plan_anyway() {
     // An infeasible document has no steps: replaying nothing leaves the start state, which
