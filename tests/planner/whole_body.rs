@@ -227,6 +227,62 @@ fn with_segments_too_the_faster_execution_is_kept() {
 }
 
 #[test]
+fn a_differential_drive_base_moves_along_its_heading_or_the_step_names_both_failures() {
+    // The Gen3 on a differential-drive base, one segment, whole-body on. The motion layer's
+    // test of this door (tests/motion/whole_body.rs) tracks only part of it with a
+    // differential drive; either way the planner's answer must be consistent: a plan whose
+    // manipulation moves the base along its heading (sideways within the whole-body
+    // tolerance between waypoints) at no more than its forward speed and yaw rate, which the
+    // independent re-checker accepts; or the one move vetoed with both reasons, the fixed
+    // base's placement and the whole-body one.
+    let gen3 = RobotModel::kinova_gen3_mobile();
+    let base = gen3.base().to_differential_drive();
+    let robot = gen3.with_base(base.clone()).expect("a valid base");
+    let planner =
+        HierarchicalPlanner::new(robot, settings(1, true)).expect("the shipped robot builds");
+    let model = wide_door();
+    let result = planner
+        .plan(
+            &model,
+            &problem(&model),
+            &Termination::after(Duration::from_secs(300)),
+        )
+        .expect("valid input");
+    match &result.outcome {
+        MotionOutcome::Solved(plan) => {
+            let s = &plan.steps[0];
+            let bases = s.manipulation_base.as_ref().expect("the base moves");
+            let tolerance = WholeBodySettings::default().sideways_tolerance;
+            for w in bases.positions.windows(2) {
+                let psi = 0.5 * (w[0][2] + w[1][2]);
+                let side = -psi.sin() * (w[1][0] - w[0][0]) + psi.cos() * (w[1][1] - w[0][1]);
+                assert!(side.abs() <= tolerance + 1e-9, "sideways {side}");
+            }
+            for i in 0..=1000 {
+                let v = bases.velocity(bases.duration * i as f64 / 1000.0);
+                assert!(v[0].hypot(v[1]) <= base.max_velocity[0] + 1e-9, "{v:?}");
+                assert!(v[2].abs() <= base.max_velocity[2] + 1e-9, "{v:?}");
+            }
+            eprintln!("differential drive, whole-body: {:.1} s", s.timing.total());
+            recheck(&planner, &model, &problem(&model).start, plan)
+                .unwrap_or_else(|v| panic!("{v}"));
+        }
+        MotionOutcome::Infeasible(why) => {
+            assert!(!why.vetoes.is_empty());
+            for v in &why.vetoes {
+                let StepReason::WholeBodyMissed { whole_body, fixed } = &v.reason else {
+                    panic!("expected both reasons, got {v}");
+                };
+                assert!(matches!(**fixed, StepReason::Placement(_)), "{v}");
+                assert!(whole_body.contains("whole-body"), "{whole_body}");
+                eprintln!("differential drive: {v}");
+            }
+        }
+        other => panic!("expected a verdict, got {other:?}"),
+    }
+}
+
+#[test]
 fn bad_whole_body_settings_are_named() {
     let mut s = settings(1, true);
     s.whole_body = Some(WholeBodySettings {

@@ -97,11 +97,13 @@ mod tests {
 
     #[test]
     fn the_slowest_coordinate_bounds_a_run_and_the_base_counts_its_planar_speed() {
-        // One segment: the base 0.3 m along x and 0.4 m along y (0.5 m planar) at 0.25 m/s
-        // and 0.25 m/s² (trapezoid: 0.5/0.25 + 0.25/0.25 = 3 s), the yaw 0.1 rad at 1 rad/s
-        // (1 rad/s²: 2·√0.1 = 0.63 s), the arm joint 2 rad at 1 rad/s and 1 rad/s² (2/1 + 1
-        // = 3 s, the same); a second arm joint 0.3 rad at 0.1 rad/s and 1 rad/s² (0.3/0.1 +
-        // 0.1/1 = 3.1 s) is the slowest and sets the duration.
+        // One segment, timed as one run with `T = 1/V + V/A` (trapezoid when `V²/A < 1`),
+        // `V = minᵢ vᵢ/Dᵢ`, `A = minᵢ aᵢ/Dᵢ` (module docs). The base moves 0.3 m along x and
+        // 0.4 m along y, 0.5 m planar, at 0.25 m/s and 0.25 m/s²: 0.5 and 0.5 (per axis it
+        // would be 0.625 for y); the yaw 0.1 rad at 1 rad/s and 1 rad/s²: 10 and 10; arm joint
+        // 1 turns 2 rad at 1 rad/s and 1 rad/s²: 0.5 and 0.5; arm joint 2 turns 0.3 rad at
+        // 0.1 rad/s and 1 rad/s²: 1/3 and 10/3. V = 1/3, A = 0.5, V²/A = 2/9 < 1:
+        // T = 3 + 2/3 s.
         let path = vec![vec![0.0; 5], vec![0.3, 0.4, 0.1, 2.0, 0.3]];
         let timed = time_whole_body_differential(
             &path,
@@ -111,8 +113,13 @@ mod tests {
             &[1.0, 1.0],
         )
         .unwrap();
-        assert!((timed.duration - 3.1).abs() < 1e-12, "{}", timed.duration);
-        // Without the slow joint, the base and the first joint tie at 3 s.
+        assert!(
+            (timed.duration - 11.0 / 3.0).abs() < 1e-12,
+            "{}",
+            timed.duration
+        );
+        // Without the slow joint, V = A = 0.5 (the base and the first joint tie): 2 + 1 = 3 s,
+        // the planar speed at its 0.25 m/s limit while coasting.
         let path = vec![vec![0.0; 4], vec![0.3, 0.4, 0.1, 2.0]];
         let timed = time_whole_body_differential(
             &path,
@@ -125,6 +132,37 @@ mod tests {
         assert!((timed.duration - 3.0).abs() < 1e-12, "{}", timed.duration);
         let v = timed.velocity(1.5);
         assert!((v[0].hypot(v[1]) - 0.25).abs() < 1e-12, "{v:?}");
+    }
+
+    #[test]
+    fn the_coordinates_of_a_timed_path_sample_as_the_whole_path_does() {
+        // A base-and-arm path with a corner, timed exactly and blended: each group's own
+        // trajectory (`coordinates`) is, at every time, the whole trajectory's state cut to
+        // the group — positions and velocities, same times.
+        use crate::motion::timing::{BlendSettings, time_optimal, time_parameterise};
+        let path = vec![
+            vec![0.0, 0.0, 0.0, 0.0],
+            vec![0.3, 0.1, 0.2, -0.4],
+            vec![0.5, 0.6, 0.1, 0.3],
+        ];
+        let limits = [0.5, 0.5, 1.0, 1.2];
+        let exact = time_parameterise(&path, &limits, &limits, None).unwrap();
+        let blended =
+            time_optimal(&path, &limits, &limits, None, &BlendSettings::default()).unwrap();
+        assert!(exact.is_exact() && !blended.is_exact());
+        for whole in [&exact, &blended] {
+            let (base, arm) = (whole.coordinates(0..3), whole.coordinates(3..4));
+            assert_eq!((&base.times, base.duration), (&whole.times, whole.duration));
+            assert_eq!(arm.positions, vec![vec![0.0], vec![-0.4], vec![0.3]]);
+            for i in 0..=200 {
+                let t = whole.duration * i as f64 / 200.0;
+                let (q, v) = (whole.sample(t), whole.velocity(t));
+                assert_eq!(base.sample(t), q[..3].to_vec(), "t = {t}");
+                assert_eq!(arm.sample(t), q[3..].to_vec(), "t = {t}");
+                assert_eq!(base.velocity(t), v[..3].to_vec(), "t = {t}");
+                assert_eq!(arm.velocity(t), v[3..].to_vec(), "t = {t}");
+            }
+        }
     }
 
     #[test]

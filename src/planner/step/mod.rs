@@ -302,6 +302,9 @@ fn grasped(model: &SceneModel, joint: JointId) -> Vec<PartId> {
 /// A failed step and the parts it depends on (`None`: unknown).
 pub(super) type Failed = (StepFailure, Option<Vec<PartId>>);
 
+/// What the robot touches at a base pose and arm configuration in a scene state, if anything.
+type ManipulationHit<'a> = dyn Fn(&SceneData, [f64; 3], &[f64]) -> Option<Contact> + 'a;
+
 /// Dense re-check of the manipulation: between consecutive waypoints the arm, the base pose
 /// (`bases`, one per waypoint) and the joint are interpolated linearly together, at the
 /// planner's arm resolution (and at most 0.01 rad or m of the scene joint per check; a moving
@@ -314,7 +317,7 @@ fn check_manipulation(
     joint: JointId,
     step: &Step,
     (waypoints, bases): (&[Vec<f64>], &[[f64; 3]]),
-    hit: &dyn Fn(&SceneData, [f64; 3], &[f64]) -> Option<Contact>,
+    hit: &ManipulationHit<'_>,
 ) -> Result<Option<StepReason>, PlannerError> {
     let model = ctx.model;
     let k = waypoints.len().saturating_sub(1).max(1);

@@ -50,7 +50,7 @@ pub(in crate::planner) fn refine(
     };
     let whole_body = run.whole_body(settings, &handle_name, state, robot.base)?;
     let segmented = run.segmented(&handle_name, state, robot.base)?;
-    Ok(choose(segmented, whole_body))
+    Ok(choose(segmented, whole_body).map_err(|failed| *failed))
 }
 
 impl Segments<'_, '_> {

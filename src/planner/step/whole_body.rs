@@ -149,9 +149,9 @@ impl Segments<'_, '_> {
 pub(super) fn choose(
     segmented: Result<Vec<StepMotion>, Failed>,
     whole_body: Option<Result<StepMotion, String>>,
-) -> Result<Vec<StepMotion>, Failed> {
+) -> Result<Vec<StepMotion>, Box<Failed>> {
     match (segmented, whole_body) {
-        (segmented, None) => segmented,
+        (segmented, None) => segmented.map_err(Box::new),
         (Ok(segments), Some(Err(_))) => Ok(segments),
         (Err(_), Some(Ok(motion))) => Ok(vec![motion]),
         (Ok(segments), Some(Ok(motion))) => {
@@ -169,13 +169,13 @@ pub(super) fn choose(
             }
             Ok(chosen)
         }
-        (Err(failed), Some(Err(_))) if failed.0.check == Check::Stopped => Err(failed),
+        (Err(failed), Some(Err(_))) if failed.0.check == Check::Stopped => Err(Box::new(failed)),
         (Err((mut failure, _)), Some(Err(why))) => {
             failure.reason = StepReason::WholeBodyMissed {
                 whole_body: why,
                 fixed: Box::new(failure.reason),
             };
-            Err((failure, None))
+            Err(Box::new((failure, None)))
         }
     }
 }
@@ -269,7 +269,7 @@ mod tests {
 
     #[test]
     fn when_neither_refines_both_reasons_are_kept_and_the_causes_dropped() {
-        let (failure, causes) = choose(Err(failed()), Some(Err("waypoint 9".into()))).unwrap_err();
+        let (failure, causes) = *choose(Err(failed()), Some(Err("waypoint 9".into()))).unwrap_err();
         assert!(causes.is_none());
         assert_eq!(failure.check, Check::Placement);
         assert_eq!(
@@ -277,7 +277,7 @@ mod tests {
             "placement; with the base moving: waypoint 9"
         );
         // Without a whole-body attempt, the segmented failure as it is.
-        let (_, causes) = choose(Err(failed()), None).unwrap_err();
+        let (_, causes) = *choose(Err(failed()), None).unwrap_err();
         assert!(causes.is_some());
     }
 }
