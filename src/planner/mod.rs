@@ -180,8 +180,16 @@ impl HierarchicalPlanner {
         let mut settings = settings;
         settings.validate(&robot)?;
         let collision = RobotCollision::new(&robot)?;
-        // The task level must not rule out a move the motion layer can make in segments.
-        settings.task.manipulation.segments = settings.max_segments;
+        // The task level must not rule out a move the motion layer can make in segments, or,
+        // with whole-body manipulation, with the base at another position for every waypoint
+        // (as many runs as the task level's grasp points: its nearest rule).
+        settings.task.manipulation.segments = match settings.whole_body {
+            Some(_) => settings
+                .max_segments
+                .max(settings.task.manipulation.steps + 1)
+                .min(1000),
+            None => settings.max_segments,
+        };
         if settings.task.manipulation.arm.is_none() {
             let standoff = collision.fingertip_reach(&robot).unwrap_or(0.0).max(0.0)
                 + settings.placement.manipulation.finger_clearance;

@@ -100,6 +100,10 @@ pub struct PlannerSettings {
     /// manipulation keeps its base still, the paper's manipulation planner (with segments up
     /// to `max_segments`); opt in because consumers that execute a plan must then follow the
     /// base during the manipulation ([`StepMotion::manipulation_base`](super::StepMotion::manipulation_base)).
+    /// With it, the task level's manipulation regions admit a base cell that covers a prefix
+    /// of the handle trajectory with the rest covered from other cells, up to one per grasp
+    /// point (`task.manipulation.segments`), so that it does not rule out what the moving base
+    /// can do.
     ///
     /// [`plan_whole_body`]: crate::motion::placement::plan_whole_body
     pub whole_body: Option<WholeBodySettings>,

@@ -171,7 +171,8 @@ pub struct StepTiming {
 }
 
 impl StepTiming {
-    /// Arm time: approach, manipulation and retreat (the paper's Table I "Arm").
+    /// Arm time: approach, manipulation and retreat (the paper's Table I "Arm"; a
+    /// whole-body manipulation counts here, the base moving with the arm).
     pub fn arm(&self) -> f64 {
         self.approach + self.manipulation + self.retreat
     }
