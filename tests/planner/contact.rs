@@ -856,8 +856,11 @@ fn postgrasp(step: &StepMotion) -> usize {
 
 /// Re-checks every phase of every step of `plan`, from `start`, densely (arm: at most
 /// [`ARM_STEP`] per joint between samples; base: [`BASE_STEP`] and [`YAW_STEP`]; manipulation
-/// also [`SCENE_STEP`] of the moved joint) under the contact rule of this module. The first
-/// offending sample is the `Err`.
+/// also [`SCENE_STEP`] of the moved joint) under the contact rule of this module. A whole-body
+/// manipulation (`manipulation_base`) is sampled with the base: its timed base path at the
+/// arm's times (base samples also within [`BASE_STEP`] and [`YAW_STEP`]), the approach at the
+/// step's `base` and the retreat at the last base pose. The first offending sample is the
+/// `Err`.
 pub(super) fn recheck(
     planner: &HierarchicalPlanner,
     model: &SceneModel,
