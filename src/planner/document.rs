@@ -20,7 +20,10 @@
 //!       "pregrasp": 12,               // index in approach.positions: straight in from here
 //!       "manipulation": { "times": [...], "positions": [...] },  // K+1 waypoints on the handle trajectory
 //!       "retreat":      { "times": [...], "positions": [...] },
-//!       "postgrasp": 10 }             // index in retreat.positions: straight out up to here
+//!       "postgrasp": 10,              // index in retreat.positions: straight out up to here
+//!       "mode": "fixed_base" | "segment" | "whole_body",
+//!       "manipulation_base": { "times": [...], "positions": [[x, y, yaw], ...] },  // whole_body only
+//!       "compared": { "segments": 31.0, "whole_body": 24.5 } }  // s; only when both refined
 //!   ],
 //!   "vetoes": [                        // moves the motion layer rejected, in the order found
 //!     { "step": 0, "joint": "...", "from": 0.0, "to": 1.2,
@@ -37,14 +40,20 @@
 //! the step's `"to"`), base pose, paths and timing; each base path starts where the previous
 //! entry's base pose is. An entry with `"segment": 0` begins the next step of `"steps"`.
 //! Documents without these two fields read as one segment per step.
+//!
+//! **Whole-body manipulation.** An entry with `"mode": "whole_body"` moves the base during
+//! the manipulation: `"manipulation_base"` holds its pose at each of the manipulation's
+//! waypoints, with the same `times` (base and arm timed together); `"base"` is its first pose
+//! (where the base path ends and the approach runs), its last is where the retreat runs and
+//! the next entry's base path starts. Without `"mode"`, an entry reads as `"fixed_base"`.
 //! `times` are the waypoints' times (s) from the start of the phase under the time
 //! parameterisation ([`crate::motion::timing`]); positions between them follow its profile.
 
 use serde::{Deserialize, Serialize};
 
 use super::{
-    Check, FailedSegment, MotionOutcome, MotionPlan, PlannerResult, StepFailure, StepMotion,
-    StepTiming,
+    Check, Compared, FailedSegment, MotionOutcome, MotionPlan, PlannerResult, StepFailure,
+    StepMode, StepMotion, StepTiming,
 };
 use crate::motion::timing::TimedPath;
 use crate::task::{Outcome, PlanFile, PlanResult, PlanStatus};
@@ -102,6 +111,16 @@ pub struct StepDocument {
     /// Index in `retreat.positions` of the post-grasp configuration (the straight retreat
     /// along the handle's normal ends there).
     pub postgrasp: usize,
+    /// How the manipulation was executed.
+    #[serde(default)]
+    pub mode: StepMode,
+    /// The base poses (x, y, yaw) along a whole-body manipulation, one per waypoint of
+    /// `manipulation`, same times.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub manipulation_base: Option<PathDocument>,
+    /// The execution times of segments and whole-body when both refined.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub compared: Option<Compared>,
 }
 
 fn one() -> usize {
@@ -126,6 +145,9 @@ impl From<&StepMotion> for StepDocument {
             manipulation: (&s.manipulation).into(),
             retreat: (&s.retreat).into(),
             postgrasp: s.postgrasp,
+            mode: s.mode,
+            manipulation_base: s.manipulation_base.as_ref().map(PathDocument::from),
+            compared: s.compared,
         }
     }
 }

@@ -53,6 +53,26 @@
 //! phases fail fails the step with that check. `max_segments = 1` is the paper's manipulation
 //! planner: one base pose per step.
 //!
+//! # Whole-body manipulation
+//! With [`PlannerSettings::whole_body`] set, a step whose placement does not cover it is also
+//! tried with one grasp while the base moves along with the arm
+//! ([`plan_whole_body`](crate::motion::placement::plan_whole_body)): from the base pose and
+//! first configuration of the placement with the objective
+//! [`LongestPrefix`](crate::motion::placement::PlacementObjective::LongestPrefix) (where the
+//! arm alone follows the handle furthest), else of the step's placement. Its phases: the base
+//! path to the first waypoint's base pose, the approach there (free, then straight in), the
+//! manipulation with a base pose per waypoint (its base and arm timed together as one path
+//! `[x, y, yaw, q…]`: a holonomic base under its per-axis limits, a differential-drive base
+//! exactly under its forward speed and yaw rate; densely re-checked with base, arm and part
+//! interpolated together), the retreat at the last waypoint's base pose, where the next step
+//! starts ([`StepMotion::end_base`]). The base must stand still during the straight approach
+//! and retreat. The segmented refinement runs as well (up to `max_segments`); when both
+//! refine, the one with the shorter execution time is kept ([`StepMotion::mode`],
+//! [`StepMotion::compared`]); when neither does, the step fails with both reasons
+//! ([`StepReason::WholeBodyMissed`]). A step that one base pose covers is refined as without
+//! the setting. The default is off: the paper's fixed-base manipulation, and every consumer of
+//! a plan may assume the base stands still while the arm moves.
+//!
 //! # Approximations
 //! One approximation: whether the *base path* to a move exists also depends on where the robot
 //! comes from, which is not part of the task state; a base-path failure is nevertheless vetoed
@@ -75,8 +95,8 @@ pub use outcome::{
 pub use reach::arm_reach;
 pub use settings::PlannerSettings;
 pub use step::{
-    Check, Contact, FailedSegment, PlacementShortfall, SegmentMiss, SegmentTry, SplitMiss,
-    StepFailure, StepMotion, StepPath, StepReason, StepTiming,
+    Check, Compared, Contact, FailedSegment, PlacementShortfall, SegmentMiss, SegmentTry,
+    SplitMiss, StepFailure, StepMode, StepMotion, StepPath, StepReason, StepTiming,
 };
 
 use std::sync::Mutex;
@@ -160,8 +180,16 @@ impl HierarchicalPlanner {
         let mut settings = settings;
         settings.validate(&robot)?;
         let collision = RobotCollision::new(&robot)?;
-        // The task level must not rule out a move the motion layer can make in segments.
-        settings.task.manipulation.segments = settings.max_segments;
+        // The task level must not rule out a move the motion layer can make in segments, or,
+        // with whole-body manipulation, with the base at another position for every waypoint
+        // (as many runs as the task level's grasp points: its nearest rule).
+        settings.task.manipulation.segments = match settings.whole_body {
+            Some(_) => settings
+                .max_segments
+                .max(settings.task.manipulation.steps + 1)
+                .min(1000),
+            None => settings.max_segments,
+        };
         if settings.task.manipulation.arm.is_none() {
             let standoff = collision.fingertip_reach(&robot).unwrap_or(0.0).max(0.0)
                 + settings.placement.manipulation.finger_clearance;
@@ -386,7 +414,7 @@ impl HierarchicalPlanner {
             match step::refine(&ctx, index, &state, joint, s, &robot)? {
                 Ok(segments) => {
                     if let Some(last) = segments.last() {
-                        robot.base = last.base;
+                        robot.base = last.end_base();
                     }
                     state.set(model, joint, s.to)?;
                     steps.extend(segments);

@@ -9,7 +9,7 @@ use crate::InvalidSetting;
 use crate::kinematics::ik::IkSettings;
 use crate::kinematics::robot::{EdgeSettings, RobotModel, SphereSettings};
 use crate::motion::paths::PathSettings;
-use crate::motion::placement::PlacementSettings;
+use crate::motion::placement::{PlacementError, PlacementSettings, WholeBodySettings};
 use crate::motion::timing::BlendSettings;
 use crate::task::TaskSettings;
 
@@ -91,6 +91,22 @@ pub struct PlannerSettings {
     ///
     /// [`ArmEdgeCheck`]: crate::kinematics::robot::ArmEdgeCheck
     pub certified_arm_edges: Option<EdgeSettings>,
+    /// Whole-body manipulation: when no single base pose covers a step, the base also moves
+    /// during the manipulation, along with the arm ([`plan_whole_body`] with these settings,
+    /// from the base pose where the fixed-base arm follows the handle furthest). When the
+    /// step can also be executed in segments, the alternative with the shorter execution time
+    /// is kept ([`StepMotion::mode`](super::StepMotion::mode) says which; see the
+    /// [planner's docs](super#whole-body-manipulation)). `None` (the default): every
+    /// manipulation keeps its base still, the paper's manipulation planner (with segments up
+    /// to `max_segments`); opt in because consumers that execute a plan must then follow the
+    /// base during the manipulation ([`StepMotion::manipulation_base`](super::StepMotion::manipulation_base)).
+    /// With it, the task level's manipulation regions admit a base cell that covers a prefix
+    /// of the handle trajectory with the rest covered from other cells, up to one per grasp
+    /// point (`task.manipulation.segments`), so that it does not rule out what the moving base
+    /// can do.
+    ///
+    /// [`plan_whole_body`]: crate::motion::placement::plan_whole_body
+    pub whole_body: Option<WholeBodySettings>,
 }
 
 impl Default for PlannerSettings {
@@ -116,6 +132,7 @@ impl Default for PlannerSettings {
             max_segments: 4,
             arm_spheres: Some(SphereSettings::default()),
             certified_arm_edges: None,
+            whole_body: None,
         }
     }
 }
@@ -175,6 +192,15 @@ impl PlannerSettings {
                 )
                 .into());
             }
+        }
+        if let Some(whole_body) = &self.whole_body {
+            whole_body.validate().map_err(|e| match e {
+                PlacementError::InvalidSetting(e) => PlannerError::InvalidSetting(InvalidSetting {
+                    field: format!("whole_body.{}", e.field),
+                    ..e
+                }),
+                other => other.into(),
+            })?;
         }
         if self.max_segments == 0 {
             return Err(InvalidSetting::new("max_segments", 0.0, ">= 1").into());

@@ -765,8 +765,18 @@ fn samples(
     path: &TimedPath,
     close: impl Fn((f64, &[f64]), (f64, &[f64])) -> bool,
 ) -> Vec<(f64, Vec<f64>)> {
+    samples_of(&path.times, path.duration, &|t| path.sample(t), close)
+}
+
+/// [`samples`] of the state `sample(t)` of a trajectory reaching its waypoints at `times` and
+/// lasting `duration` (several timed paths in step, sampled at the same times).
+fn samples_of(
+    times: &[f64],
+    duration: f64,
+    sample: &dyn Fn(f64) -> Vec<f64>,
+    close: impl Fn((f64, &[f64]), (f64, &[f64])) -> bool,
+) -> Vec<(f64, Vec<f64>)> {
     let at = |t: f64| {
-        let times = &path.times;
         let k = times.len().saturating_sub(1);
         if k == 0 {
             return 0.0;
@@ -780,16 +790,16 @@ fn samples(
         };
         j as f64 + f
     };
-    let mut out = vec![(0.0, path.sample(0.0))];
+    let mut out = vec![(0.0, sample(0.0))];
     let (mut t, mut dt) = (0.0, 1e-2);
-    while t < path.duration {
-        let mut next = (t + dt).min(path.duration);
-        let mut q = path.sample(next);
+    while t < duration {
+        let mut next = (t + dt).min(duration);
+        let mut q = sample(next);
         let last = out.len() - 1;
         while !close((out[last].0, &out[last].1), (at(next), &q)) && next - t > 1e-7 {
             dt /= 2.0;
-            next = (t + dt).min(path.duration);
-            q = path.sample(next);
+            next = (t + dt).min(duration);
+            q = sample(next);
         }
         t = next;
         out.push((at(t), q));
@@ -846,8 +856,11 @@ fn postgrasp(step: &StepMotion) -> usize {
 
 /// Re-checks every phase of every step of `plan`, from `start`, densely (arm: at most
 /// [`ARM_STEP`] per joint between samples; base: [`BASE_STEP`] and [`YAW_STEP`]; manipulation
-/// also [`SCENE_STEP`] of the moved joint) under the contact rule of this module. The first
-/// offending sample is the `Err`.
+/// also [`SCENE_STEP`] of the moved joint) under the contact rule of this module. A whole-body
+/// manipulation (`manipulation_base`) is sampled with the base: its timed base path at the
+/// arm's times (base samples also within [`BASE_STEP`] and [`YAW_STEP`]), the approach at the
+/// step's `base` and the retreat at the last base pose. The first offending sample is the
+/// `Err`.
 pub(super) fn recheck(
     planner: &HierarchicalPlanner,
     model: &SceneModel,
@@ -892,32 +905,63 @@ pub(super) fn recheck_robot(
                 &Sample::new(index, Phase::Approach, at, at >= pre, &q, step.from),
             )?;
         }
-        // Manipulation: the arm and the scene joint interpolated together, contact.
+        // Manipulation: the arm and the scene joint interpolated together, contact; a
+        // whole-body manipulation moves the base too (its timed path sampled at the arm's
+        // times, as base and arm were timed in step).
         let k = step.manipulation.positions.len().saturating_sub(1).max(1) as f64;
-        // The scene joint by the waypoints' times (where the timing puts the part).
-        // The part follows the grasp: the scene joint where the arm's progress along the
-        // waypoints puts it (the sample projected onto the nearest waypoint segment).
+        // The part follows the grasp: the scene joint where the robot's progress along the
+        // waypoints puts it (the sample projected onto the nearest waypoint segment of the
+        // joint path: base pose and arm for a whole-body manipulation, else the arm).
         let per_waypoint = (step.to - step.from).abs() / k;
-        let progress = |q: &[f64]| along(&step.manipulation.positions, q);
-        for (_, q) in samples(&step.manipulation, |a, b| {
-            arm_close(a, b) && (progress(b.1) - progress(a.1)).abs() * per_waypoint <= SCENE_STEP
-        }) {
-            let at = progress(&q);
+        let fixed = step.base.to_vec();
+        let moving = step.manipulation_base.as_ref();
+        let waypoints: Vec<Vec<f64>> = (0..step.manipulation.positions.len())
+            .map(|j| {
+                let base = moving.map_or(&fixed, |b| &b.positions[j]);
+                base.iter()
+                    .chain(&step.manipulation.positions[j])
+                    .copied()
+                    .collect()
+            })
+            .collect();
+        let state_at = |t: f64| -> Vec<f64> {
+            let base = moving.map_or_else(|| fixed.clone(), |b| b.sample(t));
+            base.into_iter()
+                .chain(step.manipulation.sample(t))
+                .collect()
+        };
+        let progress = |p: &[f64]| along(&waypoints, p);
+        let manipulation = &step.manipulation;
+        for (_, p) in samples_of(
+            &manipulation.times,
+            manipulation.duration,
+            &state_at,
+            |a, b| {
+                arm_close((a.0, &a.1[3..]), (b.0, &b.1[3..]))
+                    && base_close((a.0, &a.1[..3]), (b.0, &b.1[..3]))
+                    && (progress(b.1) - progress(a.1)).abs() * per_waypoint <= SCENE_STEP
+            },
+        ) {
+            let at = progress(&p);
             let value = step.from + (step.to - step.from) * at / k;
             state.set_unchecked(joint, value);
             c.set_scene(&state);
-            let placed = c.place(&step.base, &q);
+            let placed = c.place(&p[..3], &p[3..]);
             c.check(
                 &placed,
-                &Sample::new(index, Phase::Manipulation, at, true, &q, value),
+                &Sample::new(index, Phase::Manipulation, at, true, &p[3..], value),
             )?;
         }
         // Retreat: contact up to the post-grasp configuration, free after it.
         state.set(model, joint, step.to).expect("the step's target");
         c.set_scene(&state);
         let post = postgrasp(step) as f64;
+        // At the manipulation's last base pose (where a whole-body manipulation left it).
+        let end = moving.map_or(fixed.clone(), |b| {
+            b.positions[b.positions.len() - 1].clone()
+        });
         for (at, q) in samples(&step.retreat, arm_close) {
-            let placed = c.place(&step.base, &q);
+            let placed = c.place(&end, &q);
             c.check(
                 &placed,
                 &Sample::new(index, Phase::Retreat, at, at <= post, &q, step.to),

@@ -6,6 +6,7 @@ mod differential;
 mod goals;
 mod reach;
 mod segments;
+mod whole_body;
 
 use std::time::Duration;
 

@@ -4,7 +4,8 @@
 //! The document is [`kinscene::planner::MotionDocument`]: the task plan document plus, per
 //! step, the base path, the base pose, the arm paths, the manipulation trajectory and their
 //! timing (per segment, numbered within the step, for a step that no single base pose covers;
-//! at most `--max-segments` of them), and the moves the motion layer vetoed. Exit codes as
+//! at most `--max-segments` of them; with `--whole-body`, the base poses of a manipulation
+//! during which the base moves), and the moves the motion layer vetoed. Exit codes as
 //! `plan`.
 
 use std::io::Write;
@@ -40,8 +41,8 @@ pub struct RobotArgs<'a> {
 }
 
 /// Plans with motion for `robot` (a description, a URDF path, or `gen3`) and writes the document to
-/// `out_path` or `out`. `motion_options` are the motion layer's seed and the most segments per
-/// step (`None`: the planner's defaults).
+/// `out_path` or `out`. `motion_options` are the motion layer's seed, the most segments per
+/// step (`None`: the planner's defaults) and whether whole-body manipulation is on.
 ///
 /// # Errors
 /// An unreadable or malformed robot URDF, a goal without a robot start pose, a backend
@@ -54,7 +55,7 @@ pub fn run(
     model: &SceneModel,
     problem: &Problem,
     settings: TaskSettings,
-    motion_options: (Option<u64>, Option<usize>),
+    motion_options: (Option<u64>, Option<usize>, bool),
     budget: (Duration, &str),
     out_path: Option<&Path>,
     out: &mut dyn Write,
@@ -78,6 +79,7 @@ mod imp {
     use kinscene::kinematics::robot::{
         PairSampling, RobotImportOptions, RobotModel, Srdf, StowSearch,
     };
+    use kinscene::motion::placement::WholeBodySettings;
     use kinscene::planner::{
         HierarchicalPlanner, MotionDocument, MotionOutcome, PlannerError, PlannerSettings,
     };
@@ -90,7 +92,7 @@ mod imp {
         model: &SceneModel,
         problem: &Problem,
         settings: TaskSettings,
-        (seed, max_segments): (Option<u64>, Option<usize>),
+        (seed, max_segments, whole_body): (Option<u64>, Option<usize>, bool),
         (budget, budget_text): (Duration, &str),
         out_path: Option<&Path>,
         out: &mut dyn Write,
@@ -177,6 +179,7 @@ mod imp {
             let s = PlannerSettings {
                 task: settings,
                 max_segments: max_segments.unwrap_or(defaults.max_segments),
+                whole_body: whole_body.then(WholeBodySettings::default),
                 ..defaults
             };
             match seed {
@@ -231,7 +234,7 @@ mod imp {
         _model: &SceneModel,
         _problem: &Problem,
         _settings: TaskSettings,
-        _motion_options: (Option<u64>, Option<usize>),
+        _motion_options: (Option<u64>, Option<usize>, bool),
         _budget: (Duration, &str),
         _out_path: Option<&Path>,
         _out: &mut dyn Write,

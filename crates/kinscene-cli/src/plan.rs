@@ -1,6 +1,6 @@
 //! `kinscene plan --scene S.urdf --goal G.toml [--budget 10s] [--out plan.json]
 //! [--strategy search|random|paper] [--seed N] [--robot ROBOT.toml|URDF|gen3]
-//! [--base holonomic|differential] [--max-segments N]
+//! [--base holonomic|differential] [--max-segments N] [--whole-body]
 //! [--tool-link LINK] [--srdf FILE]
 //! [--arm-root LINK] [--frozen JOINT=VALUE ...] [--contact-link LINK ...] [--tool-approach X,Y,Z]
 //! [--package NAME=PATH ...]`:
@@ -110,6 +110,11 @@ pub struct Args {
     /// 1 keeps every step to one base pose [default: 4].
     #[arg(long, value_name = "N", value_parser = parse_segments, requires = "robot")]
     max_segments: Option<usize>,
+    /// With a robot: also try whole-body manipulation for a step that no single base pose
+    /// covers (one grasp, the base moving along with the arm), keeping it over segments when it
+    /// executes faster [default: off, the base stands still while the arm moves].
+    #[arg(long, requires = "robot")]
+    whole_body: bool,
     /// With a robot URDF: the link whose frame is the tool (TCP, +z the approach direction)
     /// [default: tool_frame]. The `--package` paths also resolve the robot's mesh URIs.
     #[arg(long, value_name = "LINK", requires = "robot")]
@@ -261,7 +266,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<Verdict, CliError> {
             &model,
             &problem,
             settings,
-            (args.seed, args.max_segments),
+            (args.seed, args.max_segments, args.whole_body),
             (budget, args.budget.trim()),
             args.out.as_deref(),
             out,

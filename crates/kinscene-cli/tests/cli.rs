@@ -752,6 +752,50 @@ fn max_segments_is_a_positive_count_for_a_robot() {
 }
 
 #[test]
+fn whole_body_moves_the_base_during_the_wide_door_and_needs_a_robot() {
+    // examples/scenes/goals/wide_door.toml: the 0.6 m cabinet door that no single Gen3 base
+    // pose covers. With --whole-body the document's one entry moves the base during the
+    // manipulation (a base pose per manipulation waypoint, the same times) and records the
+    // segments' time it beat; without it, the entries keep their base still.
+    let scene = repo().join("examples/scenes/appliances.urdf");
+    let goal = goal_path("wide_door.toml");
+    let run = |extra: &[&str]| -> Value {
+        let mut args = vec!["plan", "--scene", arg(&scene), "--goal", arg(&goal)];
+        args.extend_from_slice(&["--robot", "gen3"]);
+        args.extend_from_slice(extra);
+        let output = kinscene(&args);
+        assert_eq!(output.status.code(), Some(0), "{output:?}");
+        serde_json::from_slice(&output.stdout).expect("plan prints JSON")
+    };
+    let fixed = run(&[]);
+    for m in fixed["motion"].as_array().unwrap() {
+        assert!(m.get("manipulation_base").is_none(), "{m}");
+        assert_ne!(m["mode"], "whole_body");
+    }
+    let doc = run(&["--whole-body"]);
+    let motion = doc["motion"].as_array().unwrap();
+    if let [m] = motion.as_slice() {
+        assert_eq!(m["mode"], "whole_body");
+        let bases = &m["manipulation_base"];
+        assert_eq!(bases["times"], m["manipulation"]["times"]);
+        let positions = bases["positions"].as_array().unwrap();
+        assert!(positions.iter().any(|p| p != &positions[0]), "{bases}");
+        let time = |k: &str| m["compared"][k].as_f64().expect("both times");
+        assert!(time("whole_body") <= time("segments"), "{}", m["compared"]);
+    } else {
+        // The segments executed faster: every entry says so.
+        assert!(
+            motion
+                .iter()
+                .all(|m| m["mode"] == "segment" && m["compared"].is_object())
+        );
+    }
+    let output = plan_kitchen(&goal, &["--whole-body"]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("--robot"));
+}
+
+#[test]
 fn plan_with_a_bad_robot_file_is_bad_input() {
     let scene = counter_path();
     let goal = scratch_file(

@@ -10,6 +10,10 @@
 //!
 //! [`time_differential_drive`] times a differential-drive base path (turns in place and straight
 //! drives) exactly, under the forward speed and the yaw rate instead of per axis.
+//! [`time_whole_body_differential`] times a base-and-arm path of a differential-drive robot
+//! (the base moving along with the arm) exactly, the base under its planar speed and yaw rate.
+//! [`TimedPath::coordinates`] cuts a path timed in several groups of coordinates into each
+//! group's trajectory, in step.
 //!
 //! # The profile
 //! The path is cut into *runs*: maximal sequences of segments with the same direction (unit
@@ -111,12 +115,14 @@ mod optimal;
 mod phase;
 mod ramp;
 mod timed_path;
+mod whole_body;
 
 pub use differential::{SIDEWAYS_TOLERANCE, time_differential_drive};
 pub use error::TimingError;
 pub use exact::time_parameterise;
 pub use optimal::{BlendSettings, time_optimal};
 pub use timed_path::TimedPath;
+pub use whole_body::time_whole_body_differential;
 
 /// Two segment directions (unit vectors) closer than this count as the same direction: the
 /// profile does not stop between them. The velocity jump there is at most this fraction of

@@ -169,6 +169,77 @@ impl TimedPath {
         matches!(self.profile, Profile::Exact { .. })
     }
 
+    /// The trajectory of the coordinates `range` alone (the others dropped): the same times,
+    /// the same time law, each waypoint and every sampled state cut to `range`. For a path
+    /// timed in several groups of coordinates together (a base and an arm), each group's own
+    /// trajectory, still in step with the others'. [`max_deviation`](Self::max_deviation)
+    /// stays the whole path's (an upper bound for any of its coordinates).
+    ///
+    /// # Panics
+    /// Never for a `range` within the waypoints' length; a `range` beyond it is clamped.
+    pub fn coordinates(&self, range: std::ops::Range<usize>) -> TimedPath {
+        let dim = self.positions.first().map_or(0, Vec::len);
+        let range = range.start.min(dim)..range.end.min(dim).max(range.start.min(dim));
+        let cut = |v: &Vec<f64>| v[range.clone()].to_vec();
+        let profile = match &self.profile {
+            Profile::Exact { segments, runs } => Profile::Exact {
+                segments: segments
+                    .iter()
+                    .map(|s| Segment {
+                        delta: cut(&s.delta),
+                        ..s.clone()
+                    })
+                    .collect(),
+                runs: runs.clone(),
+            },
+            Profile::Blended(b) => {
+                let mut geometry = b.geometry.clone();
+                geometry.start = cut(&geometry.start);
+                geometry.end = cut(&geometry.end);
+                for segment in &mut geometry.segments {
+                    segment.shape = match &segment.shape {
+                        blend::Shape::Line {
+                            from,
+                            to,
+                            delta,
+                            direction,
+                            span,
+                            lambda0,
+                        } => blend::Shape::Line {
+                            from: cut(from),
+                            to: cut(to),
+                            delta: cut(delta),
+                            direction: cut(direction),
+                            span: *span,
+                            lambda0: *lambda0,
+                        },
+                        blend::Shape::Arc {
+                            start,
+                            tangent,
+                            normal,
+                            radius,
+                        } => blend::Shape::Arc {
+                            start: cut(start),
+                            tangent: cut(tangent),
+                            normal: cut(normal),
+                            radius: *radius,
+                        },
+                    };
+                }
+                Profile::Blended(Box::new(Blended {
+                    geometry,
+                    timing: b.timing.clone(),
+                }))
+            }
+        };
+        TimedPath {
+            times: self.times.clone(),
+            positions: self.positions.iter().map(cut).collect(),
+            duration: self.duration,
+            profile,
+        }
+    }
+
     /// Where `t` falls: exactly on (or clamped to) waypoint `k`, or strictly inside segment `j`
     /// (which then has a positive duration).
     fn locate(&self, t: f64) -> Located {

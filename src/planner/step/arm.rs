@@ -114,8 +114,10 @@ impl StepRefinement<'_, '_> {
     }
 
     /// The arm's phases: stowed → pre-grasp (nothing exempt) → straight in to the grasp (the
-    /// grasp rule); the manipulation re-checked with the part moving along with the arm; then
-    /// in the new state straight out to the post-grasp (the grasp rule) and free to stowed.
+    /// grasp rule), at the placement's base pose; the manipulation re-checked with the part
+    /// (and, whole-body, the base) moving along with the arm; then in the new state straight
+    /// out to the post-grasp (the grasp rule) and free to stowed, at the manipulation's last
+    /// base pose.
     pub(super) fn arm_paths(
         &self,
         placed: &Placed,
@@ -151,13 +153,16 @@ impl StepRefinement<'_, '_> {
             .chain(inward.iter().skip(1).cloned())
             .collect();
 
-        let hit = |d: &SceneData, q: &[f64]| self.arm_exact(base, d, grasp).hit(q);
+        let hit = |d: &SceneData, b: [f64; 3], q: &[f64]| self.arm_exact(b, d, grasp).hit(q);
         let (state, joint, step) = (self.state, self.joint, self.step);
-        if let Some(reason) = check_manipulation(ctx, state, joint, step, placed.waypoints(), &hit)?
-        {
+        let bases = placed.waypoint_bases();
+        let along = (placed.waypoints(), bases.as_slice());
+        if let Some(reason) = check_manipulation(ctx, state, joint, step, along, &hit)? {
             return Ok(Err(self.fail(Check::Manipulation, reason)));
         }
 
+        // A whole-body manipulation lets go where its last waypoint put the base.
+        let base = placed.end_base();
         let data_after = self.after()?;
         let outward = &placed.all[placed.release_at..];
         if let Some(f) = self.straight(

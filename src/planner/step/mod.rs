@@ -26,6 +26,14 @@
 //! each the phases above from a base pose of its own (the rule is in the
 //! [planner's docs](crate::planner#segments); the code in `segment.rs`).
 //!
+//! **Whole-body manipulation.** With [`PlannerSettings::whole_body`], a step that no single
+//! base pose covers may instead keep one grasp while the base moves along with the arm: phase
+//! 1 drives to the base pose of the manipulation's first waypoint, phase 2 approaches there,
+//! phase 3 moves base and arm together (a base pose per waypoint,
+//! [`StepMotion::manipulation_base`]), and phase 4 retreats at the last waypoint's base pose,
+//! where the next step starts ([`StepMotion::end_base`]); the rule is in the
+//! [planner's docs](crate::planner#whole-body-manipulation), the code in `whole_body.rs`.
+//!
 //! **Contact rule.** From the pre-grasp through the manipulation to the post-grasp
 //! configuration the robot is checked with [`Exempt::Grasp`](crate::kinematics::robot::Exempt::Grasp): only the gripper's contact
 //! shapes (fingers, pads) may touch the grasped part and its descendants, and every other
@@ -44,6 +52,7 @@ mod reason;
 mod refine;
 mod segment;
 mod timing;
+mod whole_body;
 
 pub use reason::{
     Contact, PlacementShortfall, SegmentMiss, SegmentTry, SplitMiss, StepPath, StepReason,
@@ -59,7 +68,7 @@ use nalgebra::DVector;
 
 use super::{PlannerError, PlannerSettings};
 use crate::kinematics::ik::IkSolver;
-use crate::kinematics::robot::{RobotCollision, RobotModel, RobotSpheres};
+use crate::kinematics::robot::{RobotCollision, RobotConfig, RobotModel, RobotSpheres};
 use crate::motion::paths::PathOutcome;
 use crate::motion::placement::PlacementData;
 use crate::motion::timing::TimedPath;
@@ -162,7 +171,8 @@ pub struct StepTiming {
 }
 
 impl StepTiming {
-    /// Arm time: approach, manipulation and retreat (the paper's Table I "Arm").
+    /// Arm time: approach, manipulation and retreat (the paper's Table I "Arm"; a
+    /// whole-body manipulation counts here, the base moving with the arm).
     pub fn arm(&self) -> f64 {
         self.approach + self.manipulation + self.retreat
     }
@@ -171,6 +181,31 @@ impl StepTiming {
     pub fn total(&self) -> f64 {
         self.base + self.arm()
     }
+}
+
+/// How a step's manipulation was executed.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StepMode {
+    /// From one base pose that covers the whole step (the paper's manipulation planner).
+    #[default]
+    FixedBase,
+    /// As one of the segments of a step that no single base pose covers, each from a base
+    /// pose of its own (see [segments](crate::planner#segments)).
+    Segment,
+    /// With the base moving along with the arm during the manipulation (see
+    /// [whole-body manipulation](crate::planner#whole-body-manipulation)).
+    WholeBody,
+}
+
+/// The execution times (s) of the two ways a step that no single base pose covers was
+/// refined, when both succeeded: the planner kept the shorter (ties: the segments).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Compared {
+    /// All its segments, phases summed ([`StepTiming::total`]).
+    pub segments: f64,
+    /// The whole-body execution, phases summed.
+    pub whole_body: f64,
 }
 
 /// The motion of one step, or of one segment of a segmented step (see
@@ -187,7 +222,9 @@ pub struct StepMotion {
     pub to: f64,
     /// The handle grasped.
     pub handle: String,
-    /// The base pose x (m), y (m), yaw (rad) of the manipulation.
+    /// The base pose x (m), y (m), yaw (rad) of the manipulation: where the base path ends
+    /// and the approach runs. For a whole-body manipulation, the base pose at its first
+    /// waypoint ([`StepMotion::end_base`] is the last).
     pub base: [f64; 3],
     /// The base path (x, y, yaw waypoints), timed.
     pub base_path: TimedPath,
@@ -199,14 +236,36 @@ pub struct StepMotion {
     pub pregrasp: usize,
     /// The arm configurations along the handle trajectory (K + 1 waypoints), timed.
     pub manipulation: TimedPath,
+    /// The base poses (x, y, yaw) along the handle trajectory of a whole-body manipulation:
+    /// one per waypoint of `manipulation`, with the same `times` and time law (base and arm
+    /// were timed together; sample both at the same time). `None`: the base stands at `base`
+    /// throughout.
+    pub manipulation_base: Option<TimedPath>,
     /// The arm path back to stowed, timed: straight out along the handle's normal to the
     /// post-grasp configuration, then free.
     pub retreat: TimedPath,
     /// Index in `retreat.positions` of the post-grasp configuration: up to it, the gripper's
     /// contact shapes may touch the grasped part.
     pub postgrasp: usize,
-    /// Execution times.
+    /// Execution times. For a whole-body manipulation, `timing.manipulation` is the time of
+    /// base and arm together.
     pub timing: StepTiming,
+    /// How the manipulation was executed.
+    pub mode: StepMode,
+    /// When the step could be executed both in segments and with the whole body: the two
+    /// execution times (on every entry of the step).
+    pub compared: Option<Compared>,
+}
+
+impl StepMotion {
+    /// The base pose at the end of the manipulation, where the retreat runs and the next
+    /// step's base path starts: the last of `manipulation_base`, else `base`.
+    pub fn end_base(&self) -> [f64; 3] {
+        self.manipulation_base
+            .as_ref()
+            .and_then(|p| p.positions.last())
+            .map_or(self.base, |b| [b[0], b[1], b[2]])
+    }
 }
 
 /// What every step needs.
@@ -244,23 +303,36 @@ fn grasped(model: &SceneModel, joint: JointId) -> Vec<PartId> {
 /// A failed step and the parts it depends on (`None`: unknown).
 pub(super) type Failed = (StepFailure, Option<Vec<PartId>>);
 
-/// Dense re-check of the manipulation: between consecutive waypoints the arm and the joint are
-/// interpolated linearly together, at the planner's arm resolution (and at most 0.01 rad or m of
-/// the scene joint per check).
+/// What the robot touches at a base pose and arm configuration in a scene state, if anything.
+type ManipulationHit<'a> = dyn Fn(&SceneData, [f64; 3], &[f64]) -> Option<Contact> + 'a;
+
+/// Dense re-check of the manipulation: between consecutive waypoints the arm, the base pose
+/// (`bases`, one per waypoint) and the joint are interpolated linearly together, at the
+/// planner's arm resolution (and at most 0.01 rad or m of the scene joint per check; a moving
+/// base at most the arm resolution in its sweep, the translation plus the turn times the
+/// robot's planar reach, [`planar_reach`]). The reported configuration is the arm's, preceded
+/// by the base pose when the base moves.
 fn check_manipulation(
     ctx: &StepContext<'_>,
     state: &State,
     joint: JointId,
     step: &Step,
-    waypoints: &[Vec<f64>],
-    hit: &dyn Fn(&SceneData, &[f64]) -> Option<Contact>,
+    (waypoints, bases): (&[Vec<f64>], &[[f64; 3]]),
+    hit: &ManipulationHit<'_>,
 ) -> Result<Option<StepReason>, PlannerError> {
     let model = ctx.model;
     let k = waypoints.len().saturating_sub(1).max(1);
+    let moving = bases.windows(2).any(|w| w[0] != w[1]);
+    let lever = if moving {
+        planar_reach(ctx, &waypoints[0])
+    } else {
+        0.0
+    };
     let mut data = SceneData::new(model);
     let mut s = state.clone();
     for (i, pair) in waypoints.windows(2).enumerate() {
         let (a, b) = (&pair[0], &pair[1]);
+        let (ba, bb) = (bases[i], bases[i + 1]);
         let va = step.from + (step.to - step.from) * i as f64 / k as f64;
         let vb = step.from + (step.to - step.from) * (i + 1) as f64 / k as f64;
         let arm_span = a
@@ -268,7 +340,8 @@ fn check_manipulation(
             .zip(b)
             .map(|(x, y)| (y - x).abs())
             .fold(0.0, f64::max);
-        let n = ((arm_span / ctx.settings.arm_check_resolution)
+        let sweep = (bb[0] - ba[0]).hypot(bb[1] - ba[1]) + (bb[2] - ba[2]).abs() * lever;
+        let n = ((arm_span.max(sweep) / ctx.settings.arm_check_resolution)
             .max((vb - va).abs() / 0.01)
             .ceil() as usize)
             .max(1);
@@ -278,14 +351,20 @@ fn check_manipulation(
             }
             let t = j as f64 / n as f64;
             let q: Vec<f64> = a.iter().zip(b).map(|(x, y)| x + (y - x) * t).collect();
+            let base = [0, 1, 2].map(|c| ba[c] + (bb[c] - ba[c]) * t);
             let v = va + (vb - va) * t;
             s.set(model, joint, v)?;
             forward_kinematics(model, &mut data, &s)?;
-            if let Some(contact) = hit(&data, &q) {
+            if let Some(contact) = hit(&data, base, &q) {
+                let at = if moving {
+                    base.iter().chain(&q).copied().collect()
+                } else {
+                    q
+                };
                 return Ok(Some(StepReason::Collision {
                     path: StepPath::Manipulation,
                     segment: i,
-                    at: q,
+                    at,
                     scene_joint: Some(v),
                     contact,
                 }));
@@ -293,6 +372,23 @@ fn check_manipulation(
         }
     }
     Ok(None)
+}
+
+/// The largest distance (m) of any of the robot's link origins, or its footprint's edge, from
+/// the base's vertical axis with the arm at `q`: how far a turn of the base by 1 rad moves
+/// the robot's links, about.
+fn planar_reach(ctx: &StepContext<'_>, q: &[f64]) -> f64 {
+    let footprint = ctx.robot.base().footprint_radius;
+    let cfg = RobotConfig {
+        base: [0.0; 3],
+        arm: DVector::from_column_slice(q),
+    };
+    ctx.robot.link_poses(&cfg).map_or(footprint, |poses| {
+        poses
+            .iter()
+            .map(|p| p.translation.x.hypot(p.translation.y))
+            .fold(footprint, f64::max)
+    })
 }
 
 /// The first handle of `joint`'s part.

@@ -254,6 +254,17 @@ pub enum StepReason {
         /// What the robot touches there.
         contact: Contact,
     },
+    /// Neither way of executing a step that no single base pose covers refined: the base
+    /// moving along with the arm ([`PlannerSettings::whole_body`]) and the fixed-base
+    /// manipulation (in segments, up to `max_segments`).
+    ///
+    /// [`PlannerSettings::whole_body`]: crate::planner::PlannerSettings::whole_body
+    WholeBodyMissed {
+        /// Why the whole-body execution failed, in one line.
+        whole_body: String,
+        /// Why the fixed-base execution failed.
+        fixed: Box<StepReason>,
+    },
     /// The planner's termination stopped the step.
     Stopped {
         /// Where: "before the step began", "after base placement", ….
@@ -310,6 +321,9 @@ impl fmt::Display for StepReason {
                     write!(f, " (scene joint at {v:.4})")?;
                 }
                 write!(f, ": {contact}")
+            }
+            StepReason::WholeBodyMissed { whole_body, fixed } => {
+                write!(f, "{fixed}; with the base moving: {whole_body}")
             }
             StepReason::Stopped { when } => f.write_str(when),
         }

@@ -4,7 +4,7 @@
 use nalgebra::DVector;
 
 use super::{
-    Check, Contact, Failed, FailedSegment, StepContext, StepMotion, StepPath, StepReason,
+    Check, Contact, Failed, FailedSegment, StepContext, StepMode, StepMotion, StepPath, StepReason,
     StepTiming, grasped, grid_bounds, path_or_reason, same_pose,
 };
 use crate::kinematics::robot::{BaseKind, Exempt, RobotConfig, SphereObstacles};
@@ -49,11 +49,15 @@ pub(super) struct StepRefinement<'c, 'a> {
 /// from the pre-grasp to the grasp, the handle trajectory, the straight retreat to the
 /// post-grasp).
 pub(super) struct Placed {
+    /// The base pose of the approach (for a whole-body manipulation, at its first waypoint).
     pub(super) base: [f64; 3],
     pub(super) all: Vec<Vec<f64>>,
     /// Indices in `all` of the grasp and the release.
     pub(super) grasp_at: usize,
     pub(super) release_at: usize,
+    /// A whole-body manipulation: the base pose at each configuration of `all` (constant over
+    /// the straight approach and the straight retreat). `None`: `base` throughout.
+    pub(super) bases: Option<Vec<[f64; 3]>>,
 }
 
 impl Placed {
@@ -65,12 +69,29 @@ impl Placed {
             all: arm.iter().map(|q| q.as_slice().to_vec()).collect(),
             grasp_at: *trajectory.start(),
             release_at: *trajectory.end(),
+            bases: None,
         }
     }
 
     /// The handle trajectory's configurations.
     pub(super) fn waypoints(&self) -> &[Vec<f64>] {
         &self.all[self.grasp_at..=self.release_at]
+    }
+
+    /// The base pose at each of [`Self::waypoints`].
+    pub(super) fn waypoint_bases(&self) -> Vec<[f64; 3]> {
+        match &self.bases {
+            Some(b) => b[self.grasp_at..=self.release_at].to_vec(),
+            None => vec![self.base; self.release_at + 1 - self.grasp_at],
+        }
+    }
+
+    /// The base pose of the retreat: the last waypoint's.
+    pub(super) fn end_base(&self) -> [f64; 3] {
+        self.bases
+            .as_ref()
+            .and_then(|b| b.last().copied())
+            .unwrap_or(self.base)
     }
 }
 
@@ -180,7 +201,8 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
             Ok(a) => a,
             Err(f) => return Ok(Err(f)),
         };
-        let (base_timed, approach, manipulation, retreat) = self.time(placed, &base_path, &arm)?;
+        let (base_timed, approach, (manipulation, manipulation_base), retreat) =
+            self.time(placed, &base_path, &arm)?;
         let timing = StepTiming {
             base: base_timed.duration,
             approach: approach.duration,
@@ -197,9 +219,18 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
             approach,
             pregrasp: arm.pregrasp,
             manipulation,
+            manipulation_base,
             retreat,
             postgrasp: arm.postgrasp,
             timing,
+            mode: if placed.bases.is_some() {
+                StepMode::WholeBody
+            } else if self.segment.is_some() {
+                StepMode::Segment
+            } else {
+                StepMode::FixedBase
+            },
+            compared: None,
         }))
     }
 

@@ -5,20 +5,22 @@
 use std::collections::BTreeSet;
 
 use super::refine::{Placed, StepRefinement};
+use super::whole_body::choose;
 use super::{
     Check, Failed, FailedSegment, PlacementShortfall, SegmentMiss, SegmentTry, SplitMiss,
     StepContext, StepMotion, StepReason, first_handle_name,
 };
 use crate::kinematics::robot::RobotConfig;
 use crate::motion::placement::{
-    PlacementMethod, PlacementObjective, placement_motion, plan_manipulation,
+    PlacementMethod, PlacementObjective, PlacementOutcome, placement_motion, plan_manipulation,
 };
 use crate::planner::PlannerError;
 use crate::scene::{HandleId, JointId, PartId, State};
 use crate::task::Step;
 
 /// Refines `step` (index `index` of the plan) from `state` with the robot at `robot`: the
-/// motion of each of its segments, in order (one when a single base pose covers the step).
+/// motion of each of its segments, in order (one when a single base pose covers the step, or
+/// when the base moves along with the arm, see `whole_body.rs`).
 /// `Ok(Err)` is a failed check (an outcome); `Err` bad input or a broken backend.
 pub(in crate::planner) fn refine(
     ctx: &StepContext<'_>,
@@ -40,61 +42,90 @@ pub(in crate::planner) fn refine(
         joint,
         handle: model.handle_id(&handle_name)?,
         causes: BTreeSet::new(),
+        first_whole: None,
+        first_prefix: None,
     };
-    let mut motions: Vec<StepMotion> = Vec::new();
-    let mut state = state.clone();
-    let mut base = robot.base;
-    let mut from = step.from;
-    loop {
-        let i = motions.len();
-        let (placed, end) = match run.next_segment(i, from, &state, base)? {
-            Ok(next) => next,
-            Err(f) => return Ok(Err(f)),
-        };
-        let segment = Step {
-            from,
-            to: end,
-            ..step.clone()
-        };
-        let label = (i > 0 || end != step.to).then_some(FailedSegment {
-            index: i,
-            from,
-            to: end,
-        });
-        let r = StepRefinement::new(ctx, index, step, &segment, label, joint, &state)?;
-        if ctx.termination.should_stop() {
-            return Ok(Err(r.fail(
-                Check::Stopped,
-                StepReason::Stopped {
-                    when: "after base placement",
-                },
-            )));
+    let Some(settings) = &ctx.settings.whole_body else {
+        return run.segmented(&handle_name, state, robot.base);
+    };
+    let whole_body = run.whole_body(settings, &handle_name, state, robot.base)?;
+    let segmented = run.segmented(&handle_name, state, robot.base)?;
+    Ok(choose(segmented, whole_body).map_err(|failed| *failed))
+}
+
+impl Segments<'_, '_> {
+    /// The step in segments from `state` with the base at `base` (one segment when a single
+    /// base pose covers it).
+    fn segmented(
+        &mut self,
+        handle_name: &str,
+        state: &State,
+        base: [f64; 3],
+    ) -> Result<Result<Vec<StepMotion>, Failed>, PlannerError> {
+        let (ctx, step) = (self.ctx, self.step);
+        let model = ctx.model;
+        let mut motions: Vec<StepMotion> = Vec::new();
+        let mut state = state.clone();
+        let mut base = base;
+        let mut from = step.from;
+        loop {
+            let i = motions.len();
+            let (placed, end) = match self.next_segment(i, from, &state, base)? {
+                Ok(next) => next,
+                Err(f) => return Ok(Err(f)),
+            };
+            let segment = Step {
+                from,
+                to: end,
+                ..step.clone()
+            };
+            let label = (i > 0 || end != step.to).then_some(FailedSegment {
+                index: i,
+                from,
+                to: end,
+            });
+            let r =
+                StepRefinement::new(ctx, self.index, step, &segment, label, self.joint, &state)?;
+            if ctx.termination.should_stop() {
+                return Ok(Err(r.fail(
+                    Check::Stopped,
+                    StepReason::Stopped {
+                        when: "after base placement",
+                    },
+                )));
+            }
+            let motion = match r.execute(handle_name, &placed, base)? {
+                Ok(m) => m,
+                Err(f) => return Ok(Err(f)),
+            };
+            base = motion.end_base();
+            motions.push(motion);
+            if end == step.to {
+                return Ok(Ok(motions));
+            }
+            state.set(model, self.joint, end)?;
+            from = end;
         }
-        let motion = match r.execute(&handle_name, &placed, base)? {
-            Ok(m) => m,
-            Err(f) => return Ok(Err(f)),
-        };
-        base = motion.base;
-        motions.push(motion);
-        if end == step.to {
-            return Ok(Ok(motions));
-        }
-        state.set(model, joint, end)?;
-        from = end;
     }
 }
 
 /// The segments of one step being chosen, and the parts the placements so far depended on.
-struct Segments<'c, 'a> {
-    ctx: &'c StepContext<'a>,
-    index: usize,
-    step: &'c Step,
-    joint: JointId,
-    handle: HandleId,
+pub(super) struct Segments<'c, 'a> {
+    pub(super) ctx: &'c StepContext<'a>,
+    pub(super) index: usize,
+    pub(super) step: &'c Step,
+    pub(super) joint: JointId,
+    pub(super) handle: HandleId,
     /// The scene parts that got in the way of any placement of this step: with them (and the
     /// moved part's ancestors) at the same values, every placement, and so every segment end
     /// and base pose, is the same.
-    causes: BTreeSet<PartId>,
+    pub(super) causes: BTreeSet<PartId>,
+    /// The placement of the whole step from the robot's pose, when the whole-body attempt
+    /// made it already (the first segment's placement then).
+    pub(super) first_whole: Option<PlacementOutcome>,
+    /// The longest-prefix placement of the whole step, when the whole-body attempt made it
+    /// already (the first split's then).
+    pub(super) first_prefix: Option<PlacementOutcome>,
 }
 
 impl Segments<'_, '_> {
@@ -119,7 +150,10 @@ impl Segments<'_, '_> {
             to: self.step.to,
         });
         let r = StepRefinement::new(ctx, self.index, self.step, &rest, label, self.joint, state)?;
-        let whole = r.placement(self.handle, base, &ctx.settings.placement)?;
+        let whole = match self.first_whole.take().filter(|_| i == 0) {
+            Some(whole) => whole,
+            None => r.placement(self.handle, base, &ctx.settings.placement)?,
+        };
         self.causes.extend(whole.obstacle_parts.iter().copied());
         if whole.is_complete() {
             return Ok(Ok((
@@ -180,10 +214,11 @@ impl Segments<'_, '_> {
     ) -> Result<Result<(Placed, f64), SplitMiss>, PlannerError> {
         let ctx = self.ctx;
         let settings = &ctx.settings.placement;
-        let mut prefix_settings = settings.clone();
-        prefix_settings.method = PlacementMethod::Sampled;
-        prefix_settings.sampling.objective = PlacementObjective::LongestPrefix;
-        let prefix = r.placement(self.handle, base, &prefix_settings)?;
+        let first = r.step.from == self.step.from;
+        let prefix = match self.first_prefix.take().filter(|_| first) {
+            Some(prefix) => prefix,
+            None => longest_prefix(r, self.handle, base)?,
+        };
         self.causes.extend(prefix.obstacle_parts.iter().copied());
         let motion = &prefix.motion;
         let approach = motion.approach;
@@ -254,6 +289,20 @@ impl Segments<'_, '_> {
             tried,
         }))
     }
+}
+
+/// The placement of `r`'s segment with the objective
+/// [`LongestPrefix`](PlacementObjective::LongestPrefix) (sampled), the robot's base at `base`:
+/// the base pose from which the arm follows the motion furthest without letting go.
+pub(super) fn longest_prefix(
+    r: &StepRefinement<'_, '_>,
+    handle: HandleId,
+    base: [f64; 3],
+) -> Result<PlacementOutcome, PlannerError> {
+    let mut settings = r.ctx.settings.placement.clone();
+    settings.method = PlacementMethod::Sampled;
+    settings.sampling.objective = PlacementObjective::LongestPrefix;
+    r.placement(handle, base, &settings)
 }
 
 /// The candidate ends of a segment whose longest reached prefix ends at handle-trajectory

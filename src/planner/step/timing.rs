@@ -2,7 +2,9 @@
 
 use super::refine::{ArmPaths, Placed, StepRefinement};
 use crate::kinematics::robot::{BaseKind, Exempt};
-use crate::motion::timing::{BlendSettings, TimedPath, time_differential_drive};
+use crate::motion::timing::{
+    BlendSettings, TimedPath, time_differential_drive, time_whole_body_differential,
+};
 use crate::planner::PlannerError;
 use crate::planner::timed::{timed, value_at};
 use crate::scene::{SceneData, forward_kinematics};
@@ -11,16 +13,16 @@ impl StepRefinement<'_, '_> {
     /// Times the base path and the arm's phases (a differential-drive base path exactly, with
     /// [`time_differential_drive`]): without stops at the corners where the
     /// blended trajectory passes the same checks as the path, sampled densely; else with stops,
-    /// exactly on the checked path. Base, approach, manipulation, retreat.
+    /// exactly on the checked path. Base, approach, manipulation (the arm, and the base of a
+    /// whole-body manipulation), retreat.
     pub(super) fn time(
         &self,
         placed: &Placed,
         base_path: &[Vec<f64>],
         arm: &ArmPaths,
-    ) -> Result<(TimedPath, TimedPath, TimedPath, TimedPath), PlannerError> {
+    ) -> Result<(TimedPath, TimedPath, Manipulation, TimedPath), PlannerError> {
         let ctx = self.ctx;
         let settings = ctx.settings;
-        let model = ctx.model;
         let base = placed.base;
         let grasp = Exempt::Grasp(&self.grasped);
         let b = ctx.robot.base();
@@ -67,26 +69,14 @@ impl StepRefinement<'_, '_> {
             max_deviation: b.max_deviation.min(settings.manipulation_blend),
             ..*b
         });
-        let waypoints = placed.waypoints();
-        let scratch = std::cell::RefCell::new((self.state.clone(), SceneData::new(model)));
-        let manipulation = timed(
-            waypoints,
-            limits,
-            None,
-            fine.as_ref(),
-            resolution,
-            &|_, _, q| {
-                let value = value_at(waypoints, q, self.step.from, self.step.to);
-                let mut guard = scratch.borrow_mut();
-                let (s, data) = &mut *guard;
-                if s.set(model, self.joint, value).is_err()
-                    || forward_kinematics(model, data, s).is_err()
-                {
-                    return false;
-                }
-                self.arm_exact(base, data, grasp).valid(q)
-            },
-        )?;
+        let manipulation = match placed.bases {
+            None => (
+                self.time_fixed_manipulation(placed, limits, fine.as_ref())?,
+                None,
+            ),
+            Some(_) => self.time_whole_body(placed, limits, fine.as_ref())?,
+        };
+        let base = placed.end_base();
         let data_after = self.after()?;
         let grasping_after = self.arm(base, &data_after, grasp);
         let free_after = self.arm(base, &data_after, Exempt::Nothing);
@@ -106,4 +96,105 @@ impl StepRefinement<'_, '_> {
         )?;
         Ok((base_timed, approach, manipulation, retreat))
     }
+
+    /// The manipulation at the fixed base pose `placed.base`: the arm's waypoints, blended by
+    /// at most `fine` where the blended trajectory passes the dense check with the part where
+    /// the arm's progress puts it.
+    fn time_fixed_manipulation(
+        &self,
+        placed: &Placed,
+        limits: (&[f64], &[f64]),
+        fine: Option<&BlendSettings>,
+    ) -> Result<TimedPath, PlannerError> {
+        let model = self.ctx.model;
+        let base = placed.base;
+        let grasp = Exempt::Grasp(&self.grasped);
+        let waypoints = placed.waypoints();
+        let scratch = std::cell::RefCell::new((self.state.clone(), SceneData::new(model)));
+        timed(
+            waypoints,
+            limits,
+            None,
+            fine,
+            self.ctx.settings.arm_check_resolution,
+            &|_, _, q| {
+                let value = value_at(waypoints, q, self.step.from, self.step.to);
+                let mut guard = scratch.borrow_mut();
+                let (s, data) = &mut *guard;
+                if s.set(model, self.joint, value).is_err()
+                    || forward_kinematics(model, data, s).is_err()
+                {
+                    return false;
+                }
+                self.arm_exact(base, data, grasp).valid(q)
+            },
+        )
+    }
+
+    /// A whole-body manipulation: base and arm timed together as one path
+    /// `[x, y, yaw, q1, …, qn]` (yaw not wrapped: the whole-body steps turn by less than π),
+    /// then cut into the arm's and the base's trajectories, in step. A holonomic base under
+    /// its per-axis limits with the arm's, blended by at most `fine` where the blended
+    /// trajectory passes the dense check (base, arm and part where the progress along the
+    /// joint path puts them); a differential-drive base exactly, never blended (a blend would
+    /// move it sideways), under its forward speed and yaw rate
+    /// ([`time_whole_body_differential`]).
+    fn time_whole_body(
+        &self,
+        placed: &Placed,
+        (vmax, amax): (&[f64], &[f64]),
+        fine: Option<&BlendSettings>,
+    ) -> Result<Manipulation, PlannerError> {
+        let ctx = self.ctx;
+        let model = ctx.model;
+        let b = ctx.robot.base();
+        let grasp = Exempt::Grasp(&self.grasped);
+        let path: Vec<Vec<f64>> = placed
+            .waypoint_bases()
+            .iter()
+            .zip(placed.waypoints())
+            .map(|(base, q)| base.iter().chain(q).copied().collect())
+            .collect();
+        let combined = match b.kind {
+            BaseKind::Holonomic => {
+                let v: Vec<f64> = b.max_velocity.iter().chain(vmax).copied().collect();
+                let a: Vec<f64> = b.max_acceleration.iter().chain(amax).copied().collect();
+                let scratch = std::cell::RefCell::new((self.state.clone(), SceneData::new(model)));
+                timed(
+                    &path,
+                    (&v, &a),
+                    None,
+                    fine,
+                    ctx.settings.arm_check_resolution,
+                    &|_, _, p| {
+                        let value = value_at(&path, p, self.step.from, self.step.to);
+                        let mut guard = scratch.borrow_mut();
+                        let (s, data) = &mut *guard;
+                        if s.set(model, self.joint, value).is_err()
+                            || forward_kinematics(model, data, s).is_err()
+                        {
+                            return false;
+                        }
+                        self.arm_exact([p[0], p[1], p[2]], data, grasp)
+                            .valid(&p[3..])
+                    },
+                )?
+            }
+            BaseKind::DifferentialDrive => time_whole_body_differential(
+                &path,
+                &b.max_velocity,
+                &b.max_acceleration,
+                vmax,
+                amax,
+            )?,
+        };
+        let dim = path[0].len();
+        Ok((
+            combined.coordinates(3..dim),
+            Some(combined.coordinates(0..3)),
+        ))
+    }
 }
+
+/// The manipulation's timed paths: the arm's, and the base's of a whole-body manipulation.
+pub(super) type Manipulation = (TimedPath, Option<TimedPath>);

@@ -81,6 +81,13 @@ impl SimWorld {
         check_path(&step.approach, dof, "approach")?;
         check_path(&step.manipulation, dof, "manipulation")?;
         check_path(&step.retreat, dof, "retreat")?;
+        if step.manipulation_base.is_some() {
+            // The simulated base stands still while the arm moves: a whole-body manipulation
+            // would be executed at the wrong base poses.
+            return Err(other(
+                "whole-body manipulation (the base moving with the arm) is not simulated",
+            ));
+        }
         // Between steps: gripper open, arm stowed.
         self.physics.detach();
         if self.robot.arm != self.robot.stow {

@@ -17,7 +17,7 @@ use kinscene::kinematics::ik::{IkSettings, IkSolver, IkTarget};
 use kinscene::kinematics::robot::{Exempt, RobotCollision, RobotConfig, RobotModel};
 use kinscene::motion::paths::{PathOutcome, PathSettings, plan_arm};
 use kinscene::motion::timing::{TimedPath, time_parameterise};
-use kinscene::planner::{StepMotion, StepTiming};
+use kinscene::planner::{StepMode, StepMotion, StepTiming};
 use kinscene::scene::collision::{SweepSettings, SweepStatus, check_joint_motion};
 use kinscene::scene::urdf::{ImportOptions, read_file};
 use kinscene::scene::{
@@ -596,6 +596,9 @@ fn step_at(
         retreat,
         postgrasp: 0,
         timing,
+        manipulation_base: None,
+        mode: StepMode::FixedBase,
+        compared: None,
     }
 }
 
@@ -771,6 +774,9 @@ fn drive_step(robot: &RobotModel, path: Vec<Vec<f64>>) -> StepMotion {
         manipulation: still.clone(),
         retreat: still,
         postgrasp: 0,
+        manipulation_base: None,
+        mode: StepMode::FixedBase,
+        compared: None,
     }
 }
 

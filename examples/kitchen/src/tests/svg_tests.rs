@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 use std::f64::consts::FRAC_PI_4;
 
 use kinscene::motion::timing::{TimedPath, time_parameterise};
-use kinscene::planner::{MotionPlan, StepMotion, StepTiming};
+use kinscene::planner::{MotionPlan, StepMode, StepMotion, StepTiming};
 use kinscene::scene::urdf::{self, ImportOptions};
 use kinscene::scene::{
     BaseShape, Handle, Joint, Limits, PartSpec, SceneModel, SceneModelBuilder, Shape, State,
@@ -343,6 +343,9 @@ fn step(joint: &str, from: f64, to: f64, path: &[[f64; 3]]) -> StepMotion {
         manipulation: still.clone(),
         retreat: still,
         postgrasp: 0,
+        manipulation_base: None,
+        mode: StepMode::FixedBase,
+        compared: None,
     }
 }
 

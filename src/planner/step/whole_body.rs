@@ -1,0 +1,283 @@
+//! Whole-body manipulation of a step that no single base pose covers: the base moves along
+//! with the arm during the manipulation ([`plan_whole_body`]), as the alternative to segments,
+//! and the choice between the two by execution time (the rule is in the
+//! [planner's docs](crate::planner#whole-body-manipulation)).
+
+use super::refine::{Placed, StepRefinement};
+use super::segment::{Segments, longest_prefix};
+use super::{Check, Compared, Failed, StepMotion, StepReason, same_pose};
+use crate::motion::placement::{
+    JointMotion, PlacementOutcome, WholeBodyOutcome, WholeBodyPlan, WholeBodySettings,
+    plan_whole_body,
+};
+use crate::planner::PlannerError;
+use crate::scene::State;
+
+impl Placed {
+    /// The configurations and base poses of the whole-body `plan` along `motion`; `Err` when
+    /// the base moves during the straight approach or the straight retreat (the approach and
+    /// the retreat run at one base pose each).
+    pub(super) fn whole_body(plan: &WholeBodyPlan, motion: &JointMotion) -> Result<Placed, String> {
+        let trajectory = motion.trajectory();
+        let (grasp_at, release_at) = (*trajectory.start(), *trajectory.end());
+        let bases = &plan.bases;
+        if bases.len() != motion.len() || plan.arm.len() != motion.len() {
+            return Err(format!(
+                "the whole-body plan has {} waypoints, the motion {}",
+                bases.len(),
+                motion.len()
+            ));
+        }
+        if bases[..=grasp_at].windows(2).any(|w| w[0] != w[1]) {
+            return Err("the base moves during the straight approach".into());
+        }
+        if bases[release_at..].windows(2).any(|w| w[0] != w[1]) {
+            return Err("the base moves during the straight retreat".into());
+        }
+        Ok(Placed {
+            base: bases[0],
+            all: plan.arm.iter().map(|q| q.as_slice().to_vec()).collect(),
+            grasp_at,
+            release_at,
+            bases: Some(bases.clone()),
+        })
+    }
+}
+
+impl Segments<'_, '_> {
+    /// The whole step executed with the base moving along with the arm, from `state` with the
+    /// base at `base`, when the placement of the step (kept for the segments) does not cover
+    /// it: `None` when it does, else the motion or why there is none. The whole-body plan
+    /// starts at the base pose and first configuration of the longest-prefix placement (where
+    /// the arm follows the handle furthest from one base pose; kept for the segments too), or,
+    /// if that one reaches no waypoint or is not tracked, of the placement itself.
+    pub(super) fn whole_body(
+        &mut self,
+        settings: &WholeBodySettings,
+        handle_name: &str,
+        state: &State,
+        base: [f64; 3],
+    ) -> Result<Option<Result<StepMotion, String>>, PlannerError> {
+        let ctx = self.ctx;
+        let r = StepRefinement::new(
+            ctx, self.index, self.step, self.step, None, self.joint, state,
+        )?;
+        let whole = r.placement(self.handle, base, &ctx.settings.placement)?;
+        self.causes.extend(whole.obstacle_parts.iter().copied());
+        if whole.is_complete() {
+            self.first_whole = Some(whole);
+            return Ok(None);
+        }
+        let prefix = longest_prefix(&r, self.handle, base)?;
+        self.causes.extend(prefix.obstacle_parts.iter().copied());
+        let mut why = Vec::new();
+        let mut tracked = None;
+        let again = same_pose(&prefix.base, &whole.base);
+        for start in [&prefix, &whole]
+            .into_iter()
+            .take(if again { 1 } else { 2 })
+        {
+            if start.reached_prefix() == 0 {
+                why.push(format!(
+                    "from ({:.3}, {:.3}, {:.3}): the arm reaches no waypoint there",
+                    start.base[0], start.base[1], start.base[2]
+                ));
+                continue;
+            }
+            match self.track(&r, start, settings)? {
+                Ok(placed) => {
+                    tracked = Some(placed);
+                    break;
+                }
+                Err(e) => why.push(e),
+            }
+            if ctx.termination.should_stop() {
+                break;
+            }
+        }
+        self.first_whole = Some(whole);
+        self.first_prefix = Some(prefix);
+        let Some(placed) = tracked else {
+            return Ok(Some(Err(why.join("; "))));
+        };
+        if !r.base_reachable(&placed.base) {
+            return Ok(Some(Err(
+                "its first base pose is not clear for the stowed robot".into(),
+            )));
+        }
+        Ok(Some(match r.execute(handle_name, &placed, base)? {
+            Ok(motion) => Ok(motion),
+            Err((f, _)) => Err(format!("{} failed: {}", f.check, f.reason)),
+        }))
+    }
+
+    /// The whole-body plan of `r`'s step from the base pose and first configuration of
+    /// `start`, as a placement, or why there is none.
+    fn track(
+        &self,
+        r: &StepRefinement<'_, '_>,
+        start: &PlacementOutcome,
+        settings: &WholeBodySettings,
+    ) -> Result<Result<Placed, String>, PlannerError> {
+        let placement = &self.ctx.settings.placement;
+        let outcome = plan_whole_body(
+            r.problem(),
+            &start.motion,
+            start.base,
+            &start.arm[0],
+            placement.grasp,
+            &placement.manipulation,
+            settings,
+        )?;
+        let b = start.base;
+        let from = format!("from ({:.3}, {:.3}, {:.3})", b[0], b[1], b[2]);
+        Ok(match outcome {
+            WholeBodyOutcome::Tracked(plan) => {
+                Placed::whole_body(&plan, &start.motion).map_err(|e| format!("{from}: {e}"))
+            }
+            failed => Err(format!("{from}: {}", failed.reason().unwrap_or_default())),
+        })
+    }
+}
+
+/// The step's motion from the segmented refinement `segmented` and the whole-body attempt
+/// `whole_body` (`None`: not made): the one that refined, or with both the one with the
+/// shorter execution time (the segments on a tie), the two times recorded on every entry.
+/// When neither refined, the segmented failure, its reason joined with the whole-body one
+/// (and, since the whole-body plan depends on every part, without known causes); a stopped
+/// refinement stays stopped.
+pub(super) fn choose(
+    segmented: Result<Vec<StepMotion>, Failed>,
+    whole_body: Option<Result<StepMotion, String>>,
+) -> Result<Vec<StepMotion>, Box<Failed>> {
+    match (segmented, whole_body) {
+        (segmented, None) => segmented.map_err(Box::new),
+        (Ok(segments), Some(Err(_))) => Ok(segments),
+        (Err(_), Some(Ok(motion))) => Ok(vec![motion]),
+        (Ok(segments), Some(Ok(motion))) => {
+            let compared = Compared {
+                segments: segments.iter().map(|s| s.timing.total()).sum(),
+                whole_body: motion.timing.total(),
+            };
+            let mut chosen = if compared.whole_body < compared.segments {
+                vec![motion]
+            } else {
+                segments
+            };
+            for m in &mut chosen {
+                m.compared = Some(compared);
+            }
+            Ok(chosen)
+        }
+        (Err(failed), Some(Err(_))) if failed.0.check == Check::Stopped => Err(Box::new(failed)),
+        (Err((mut failure, _)), Some(Err(why))) => {
+            failure.reason = StepReason::WholeBodyMissed {
+                whole_body: why,
+                fixed: Box::new(failure.reason),
+            };
+            Err(Box::new((failure, None)))
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::motion::timing::time_parameterise;
+    use crate::planner::{StepFailure, StepMode, StepTiming};
+
+    /// A motion whose phases take `seconds` in all (its manipulation a 1-D path timed to
+    /// last that long: `seconds²/4` rad at 1 rad/s², a triangle profile).
+    fn motion(mode: StepMode, seconds: f64, from: f64, to: f64) -> StepMotion {
+        let d = seconds * seconds / 4.0;
+        let path = time_parameterise(&[vec![0.0], vec![d]], &[1e3], &[1.0], None).unwrap();
+        assert!((path.duration - seconds).abs() < 1e-9);
+        StepMotion {
+            joint: "door_hinge".into(),
+            from,
+            to,
+            handle: "door_handle".into(),
+            base: [0.0; 3],
+            base_path: path.clone(),
+            approach: path.clone(),
+            pregrasp: 0,
+            manipulation: path.clone(),
+            manipulation_base: None,
+            retreat: path,
+            postgrasp: 0,
+            timing: StepTiming {
+                manipulation: seconds,
+                ..StepTiming::default()
+            },
+            mode,
+            compared: None,
+        }
+    }
+
+    fn failed() -> Failed {
+        let failure = StepFailure {
+            step: 0,
+            joint: "door_hinge".into(),
+            from: 0.0,
+            to: 1.5,
+            check: Check::Placement,
+            reason: StepReason::Stopped { when: "placement" },
+            segment: None,
+        };
+        (failure, Some(Vec::new()))
+    }
+
+    #[test]
+    fn the_faster_alternative_is_kept_and_both_times_are_recorded() {
+        // Two segments of 3 s and 4 s (7 s) against a whole-body motion of 6 s: whole-body.
+        let segments = || {
+            vec![
+                motion(StepMode::Segment, 3.0, 0.0, 0.7),
+                motion(StepMode::Segment, 4.0, 0.7, 1.5),
+            ]
+        };
+        let chosen = choose(
+            Ok(segments()),
+            Some(Ok(motion(StepMode::WholeBody, 6.0, 0.0, 1.5))),
+        )
+        .unwrap();
+        assert_eq!(chosen.len(), 1);
+        assert_eq!(chosen[0].mode, StepMode::WholeBody);
+        let compared = chosen[0].compared.unwrap();
+        assert!((compared.segments - 7.0).abs() < 1e-9 && (compared.whole_body - 6.0).abs() < 1e-9);
+        // A whole-body motion of 8 s loses to the 7 s of segments, recorded on both entries.
+        let chosen = choose(
+            Ok(segments()),
+            Some(Ok(motion(StepMode::WholeBody, 8.0, 0.0, 1.5))),
+        )
+        .unwrap();
+        assert_eq!(chosen.len(), 2);
+        assert!(chosen.iter().all(|m| {
+            m.mode == StepMode::Segment
+                && m.compared
+                    .is_some_and(|c| (c.whole_body - 8.0).abs() < 1e-9)
+        }));
+        // Only one refined: that one, nothing compared.
+        let only = choose(
+            Err(failed()),
+            Some(Ok(motion(StepMode::WholeBody, 8.0, 0.0, 1.5))),
+        );
+        assert!(only.unwrap()[0].compared.is_none());
+        let only = choose(Ok(segments()), Some(Err("no".into()))).unwrap();
+        assert!(only.len() == 2 && only[0].compared.is_none());
+    }
+
+    #[test]
+    fn when_neither_refines_both_reasons_are_kept_and_the_causes_dropped() {
+        let (failure, causes) = *choose(Err(failed()), Some(Err("waypoint 9".into()))).unwrap_err();
+        assert!(causes.is_none());
+        assert_eq!(failure.check, Check::Placement);
+        assert_eq!(
+            failure.reason.to_string(),
+            "placement; with the base moving: waypoint 9"
+        );
+        // Without a whole-body attempt, the segmented failure as it is.
+        let (_, causes) = *choose(Err(failed()), None).unwrap_err();
+        assert!(causes.is_some());
+    }
+}
