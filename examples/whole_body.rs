@@ -119,7 +119,7 @@ fn run(doors: &[(String, String, f64)]) -> Result<(), Box<dyn std::error::Error>
         let seconds = started.elapsed().as_secs_f64();
         match &outcome {
             WholeBodyOutcome::Tracked(plan) => println!(
-                "{joint}: whole-body tracks every waypoint ({seconds:.1} s): the base moves at \
+                "{joint}: whole-body tracks every waypoint ({seconds:.3} s): the base moves at \
                  {} of {} waypoints, {:.3} m, ends at {:?}",
                 plan.base_moves(),
                 plan.bases.len(),
@@ -129,7 +129,7 @@ fn run(doors: &[(String, String, f64)]) -> Result<(), Box<dyn std::error::Error>
                     .map(|b| b.map(|v| (v * 1000.0).round() / 1000.0))
             ),
             failed => println!(
-                "{joint}: {} ({seconds:.1} s)",
+                "{joint}: {} ({seconds:.3} s)",
                 failed.reason().unwrap_or_default()
             ),
         }

@@ -214,14 +214,15 @@ impl<'a> Prepared<'a> {
         (position, angle)
     }
 
-    /// Whether the tool follows the handle path from waypoint `k − 1` (at `prev`) to `k` (at
-    /// `q`) with the arm interpolated linearly: at `t = i/8`, `i = 1..=7`, within
+    /// Whether the tool follows the handle path from waypoint `k − 1` (at `prev`, the base at
+    /// `from`) to `k` (at `q`, the base at `base`) with base pose and arm interpolated
+    /// linearly: at `t = i/8`, `i = 1..=7`, within
     /// [`ManipulationSettings::tracking_tolerance`] of the straight line between the grasp
     /// points and with its approach axis within
     /// [`ManipulationSettings::tracking_angle`] of the normalised interpolated approach.
-    fn tracks(
+    pub(crate) fn tracks(
         &self,
-        base: [f64; 3],
+        (from, base): ([f64; 3], [f64; 3]),
         prev: &DVector<f64>,
         q: &DVector<f64>,
         k: usize,
@@ -231,7 +232,7 @@ impl<'a> Prepared<'a> {
         for i in 1..8 {
             let t = i as f64 / 8.0;
             let tool = self.problem.robot.world_from_tool(&RobotConfig {
-                base,
+                base: [0, 1, 2].map(|j| from[j] + t * (base[j] - from[j])),
                 arm: prev + (q - prev) * t,
             })?;
             let want = a.position.coords.lerp(&b.position.coords, t);
@@ -298,7 +299,7 @@ impl<'a> Prepared<'a> {
                         (0, 0.0),
                         |best, (j, d)| if d > best.1 { (j, d) } else { best },
                     );
-            if jump > settings.max_joint_jump && !self.tracks(base, prev, q, k, settings)? {
+            if jump > settings.max_joint_jump && !self.tracks((base, base), prev, q, k, settings)? {
                 return Ok(Some(WaypointFailure::Jump { joint, jump }));
             }
         }

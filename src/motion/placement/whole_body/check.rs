@@ -57,7 +57,9 @@ impl Prepared<'_> {
                 .map(|d| d.abs())
                 .enumerate()
                 .fold((0, 0.0), |b, (j, d)| if d > b.1 { (j, d) } else { b });
-            if jump > manipulation.max_joint_jump {
+            if jump > manipulation.max_joint_jump
+                && !self.tracks((from, base), prev_q, q, k, manipulation)?
+            {
                 let failure = WaypointFailure::Jump { joint, jump };
                 return Ok(Some(WholeBodyFailure::Waypoint(failure)));
             }

@@ -12,23 +12,43 @@
 //!    first joints are the base's displacement from it: forward, sideways (holonomic bases
 //!    only: a differential-drive base gets no sideways joint) and yaw, bounded by
 //!    [`WholeBodySettings::max_base_step`] and [`WholeBodySettings::max_yaw_step`] (the
-//!    continuity bounds `|b_{k+1} − b_k|`), then the arm's joints. `solve_near` from "base
-//!    unmoved, arm at the previous configuration" pulls every coordinate towards that seed in
-//!    the null space of the task, so the base moves no more than the step needs.
+//!    continuity bounds `|b_{k+1} − b_k|`), then the arm's joints. `solve_near` pulls every
+//!    coordinate towards its seed in the null space of the task. Candidates, the first that
+//!    passes every check kept:
+//!    - *relaxed*: the tracked solution (next) with the arm moved towards the **posture** —
+//!      the arm at the first waypoint — by at most [`WholeBodySettings::posture_step`] per
+//!      joint, as the seed: the base takes up what the arm gives back, so the arm stays near
+//!      a posture known to be collision-free instead of drifting, waypoint after waypoint,
+//!      into a fold (forearm onto wrist) that the base cannot undo later;
+//!    - *tracked*: from "base unmoved, arm at the previous configuration", the grasp frame
+//!      moved there in four steps, so the base moves no more than the step needs;
+//!    - *restricted* ([`WholeBodySettings::restricted_base_steps`]): both again with the
+//!      base kept from moving the way the tracked solution moved it, one base coordinate at a
+//!      time (its step bound cut at 0 on that side), then more coordinates as the new
+//!      solutions move along them: the IK knows no collisions, so this steers a base step that
+//!      meets the scene (or moves the arm into it) off that way.
+//!
+//!    The arm alone also gives way to these when it takes some joint farther than
+//!    [`WholeBodySettings::posture_tolerance`] from the posture (and farther than the
+//!    previous waypoint did); it is kept when none of them passes.
 //!
 //! 3. **Backtracking.** If both fail at waypoint `k`, waypoints `k − 1 … k` are solved again
 //!    with step 2 only (the base moving from the earlier waypoint on), then `k − 2 … k` and
 //!    `k − 3 … k`; the arm alone may have left the arm in a posture (folded, at a limit) from
 //!    which the base cannot help any more.
 //!
-//! So the base moves only where the arm alone cannot follow (a lexicographic preference for
-//! the arm, rather than a weighted sum whose weight would have to be tuned per robot).
+//! So the base moves where the arm alone cannot follow or would leave its posture (a
+//! lexicographic preference for the arm, rather than a weighted sum whose weight would have
+//! to be tuned per robot).
 //!
 //! # Verification
 //! Every waypoint of the returned plan is re-checked without the whole-body model: the
 //! robot's forward kinematics puts the tool on the grasp frame within
 //! [`ManipulationSettings`]' tolerances, the arm is within its limits and moved no more than
-//! `max_joint_jump`, the base moved within its step bounds (in the previous base frame) and,
+//! `max_joint_jump` (more only where the tool, base and arm interpolated together, stays on
+//! the handle path within `tracking_tolerance` and `tracking_angle`, as the fixed-base plan
+//! allows: a wrist joint near its singularity turns fast while the tool follows), the base
+//! moved within its step bounds (in the previous base frame) and,
 //! for a differential-drive base, no more than [`WholeBodySettings::sideways_tolerance`]
 //! across its heading (at the mean yaw of the two poses: the chord of the arc a differential
 //! drive follows), the robot is free of self-collision, every link keeps `margin` from the
@@ -39,6 +59,7 @@
 
 mod check;
 mod model;
+mod run;
 
 use std::fmt;
 
@@ -46,17 +67,16 @@ use nalgebra::DVector;
 
 pub use check::sideways;
 
-use super::GraspFrame;
-use super::manipulation::{Attempt, Prepared, unwrap_continuous};
+use super::manipulation::Prepared;
 use super::plan::WaypointFailure;
 use super::{
     GraspRotation, JointMotion, ManipulationSettings, PlacementError, PlacementProblem, check_arm,
 };
 use crate::InvalidSetting;
-use crate::kinematics::ik::{IkData, IkOutcome, IkSolution, IkTarget};
-use crate::kinematics::robot::RobotModel;
+use crate::kinematics::ik::IkData;
 use crate::scene::SceneData;
 use model::WholeBodyIk;
+use run::{Origin, Run};
 
 /// Settings of [`plan_whole_body`].
 #[derive(Debug, Clone, PartialEq)]
@@ -69,6 +89,22 @@ pub struct WholeBodySettings {
     /// Largest sideways displacement of a differential-drive base between consecutive
     /// waypoints (m, across the heading at the mean yaw), >= 0. Default 0.01.
     pub sideways_tolerance: f64,
+    /// Largest move of each arm joint towards the posture (the arm at the first waypoint) per
+    /// whole-body waypoint (rad or m): the relaxed candidate's seed. Finite and >= 0; 0 turns
+    /// the relaxed candidate off. Default 0.1.
+    pub posture_step: f64,
+    /// An arm-alone solution that puts some joint farther than this from the posture (rad or
+    /// m), and farther than the previous waypoint's configuration, gives way to a whole-body
+    /// candidate when one passes (the base moves before the arm drifts into a fold). > 0
+    /// (`INFINITY`: the arm alone whenever it reaches). Default 0.5.
+    pub posture_tolerance: f64,
+    /// Whether, when the relaxed and the tracked candidates fail (a base link or the arm
+    /// against the scene: the IK knows no collisions), the waypoint is solved again with the
+    /// base kept from moving the way it moved along one base coordinate (its step bound cut at
+    /// 0 on that side), the coordinate it moved farthest along first, then also along the
+    /// coordinates the new solutions move farthest along. Costs IK solves only where those
+    /// candidates fail. Default true.
+    pub restricted_base_steps: bool,
 }
 
 impl Default for WholeBodySettings {
@@ -77,6 +113,9 @@ impl Default for WholeBodySettings {
             max_base_step: 0.15,
             max_yaw_step: 0.35,
             sideways_tolerance: 0.01,
+            posture_step: 0.1,
+            posture_tolerance: 0.5,
+            restricted_base_steps: true,
         }
     }
 }
@@ -99,6 +138,14 @@ impl WholeBodySettings {
         if !(s.sideways_tolerance.is_finite() && s.sideways_tolerance >= 0.0) {
             let t = s.sideways_tolerance;
             return Err(InvalidSetting::new("sideways_tolerance", t, "finite and >= 0").into());
+        }
+        if !(s.posture_step.is_finite() && s.posture_step >= 0.0) {
+            let t = s.posture_step;
+            return Err(InvalidSetting::new("posture_step", t, "finite and >= 0").into());
+        }
+        if s.posture_tolerance.is_nan() || s.posture_tolerance <= 0.0 {
+            let t = s.posture_tolerance;
+            return Err(InvalidSetting::new("posture_tolerance", t, "> 0").into());
         }
         Ok(())
     }
@@ -210,9 +257,11 @@ impl WholeBodyOutcome {
 /// starting from the base at `start` with the first IK seeded at `seed`. Per waypoint: the
 /// arm alone at the previous base pose (the fixed-base plan's IK and checks); else one IK over
 /// the base's displacement (forward, sideways for a holonomic base only, yaw; bounded by
-/// [`WholeBodySettings`]) and the arm, solved near the previous configuration through four
-/// intermediate grasp frames; if both fail, the last one to three waypoints are solved again
-/// with the base moving. Every whole-body waypoint is verified without the IK model: the
+/// [`WholeBodySettings`]) and the arm: relaxed towards the first waypoint's arm posture, or
+/// near the previous configuration through four intermediate grasp frames, or either with the
+/// base kept from the way it moved (the arm alone also gives way to these when it leaves the
+/// posture);
+/// if all fail, the last one to three waypoints are solved again with the base moving. Every whole-body waypoint is verified without the IK model: the
 /// robot's forward kinematics on the grasp frame, limits, joint jump, base step, sideways
 /// motion of a differential-drive base (at the mean yaw), self-collision, the contact rule,
 /// the base links against the whole scene, and the segment from the previous waypoint with
@@ -242,14 +291,14 @@ pub fn plan_whole_body(
     }
     check_arm(problem.robot, seed, "arm seed")?;
     let prepared = Prepared::new(problem, motion, rotation)?;
-    let wb = WholeBodyIk::new(problem.robot, settings, problem.ik.settings())?;
+    let wb = WholeBodyIk::new(problem.robot, settings);
     let mut run = Run {
         prepared: &prepared,
-        wb: &wb,
+        solvers: (0..wb.patterns()).map(|_| None).collect(),
+        wb,
         manipulation,
         settings,
         arm_data: IkData::new(problem.ik)?,
-        wb_data: IkData::new(&wb.solver)?,
         scratch: SceneData::new(problem.model),
     };
     let mut plan = WholeBodyPlan::default();
@@ -262,8 +311,13 @@ pub fn plan_whole_body(
     let mut kept = WholeBodyPlan::default();
     let mut k = 0;
     while k < motion.len() {
-        let prev = plan.bases.last().copied().zip(plan.arm.last());
-        match run.waypoint(k, prev, start, seed, !forced.contains(&k))? {
+        let origin = Origin {
+            prev: plan.bases.last().copied().zip(plan.arm.last()),
+            start: (start, seed),
+            posture: plan.arm.first(),
+            arm_first: !forced.contains(&k),
+        };
+        match run.waypoint(k, &origin)? {
             Ok((base, q)) => {
                 plan.bases.push(base);
                 plan.arm.push(q);
@@ -296,168 +350,6 @@ pub fn plan_whole_body(
     Ok(WholeBodyOutcome::Tracked(plan))
 }
 
-/// A waypoint's base pose and arm configuration, or why there is none.
-type Reached = Result<([f64; 3], DVector<f64>), WholeBodyFailure>;
-
-/// The solvers and scratch of one [`plan_whole_body`].
-struct Run<'a> {
-    prepared: &'a Prepared<'a>,
-    wb: &'a WholeBodyIk,
-    manipulation: &'a ManipulationSettings,
-    settings: &'a WholeBodySettings,
-    arm_data: IkData,
-    wb_data: IkData,
-    scratch: SceneData,
-}
-
-impl Run<'_> {
-    /// Waypoint `k` after `prev` (none at the first, which starts from `start` and `seed`):
-    /// the arm alone, else base and arm.
-    fn waypoint(
-        &mut self,
-        k: usize,
-        prev: Option<([f64; 3], &DVector<f64>)>,
-        start: [f64; 3],
-        seed: &DVector<f64>,
-        arm_first: bool,
-    ) -> Result<Reached, PlacementError> {
-        let p = self.prepared;
-        let (from, from_q) = prev.unwrap_or((start, seed));
-        let world_from_base = RobotModel::world_from_base(from);
-        let target = p.motion.grasps[k].ik_target_in_cone(
-            &world_from_base,
-            p.rotation,
-            self.manipulation.approach_cone,
-        );
-        let attempt = Attempt {
-            base: from,
-            k,
-            target: &target,
-            continuing: prev.map(|(_, q)| q),
-            start: from_q,
-        };
-        if arm_first {
-            let (q, failure) = p.solve_waypoint(
-                &attempt,
-                self.manipulation,
-                &mut self.arm_data,
-                &mut self.scratch,
-            )?;
-            if failure.is_none() {
-                return Ok(Ok((from, q)));
-            }
-        }
-        let solution = match prev {
-            Some(_) => self.track(k, from, from_q)?,
-            None => {
-                let seed = self.wb.seed(from_q);
-                match self
-                    .wb
-                    .solver
-                    .solve_with(&mut self.wb_data, &target, &seed)?
-                {
-                    IkOutcome::Solved(IkSolution { q, .. }) => Ok(q),
-                    IkOutcome::Infeasible(f) => Err(not_converged(&f.best)),
-                    IkOutcome::Timeout(best) | IkOutcome::Cancelled(best) => {
-                        Err(not_converged(&best))
-                    }
-                }
-            }
-        };
-        let solution = match solution {
-            Ok(q) => q,
-            Err(failure) => return Ok(Err(failure)),
-        };
-        let (base, mut q) = self.wb.split(from, &solution);
-        if prev.is_some() {
-            unwrap_continuous(p.problem.robot, &mut q, from_q);
-        }
-        let failure = p.check_whole_body(
-            prev,
-            base,
-            &q,
-            k,
-            (self.manipulation, self.settings),
-            &mut self.scratch,
-        )?;
-        Ok(failure.map_or(Ok((base, q)), Err))
-    }
-}
-
-impl Run<'_> {
-    /// Whole-body IK for waypoint `k` from the base at `from` and the arm at `from_q` (the
-    /// previous waypoint's): the grasp frame moved from waypoint `k − 1`'s to `k`'s in
-    /// [`SUBSTEPS`] equal steps (positions and orientations interpolated), each solved near
-    /// the previous result, so the base displacement grows with the handle's motion.
-    fn track(
-        &mut self,
-        k: usize,
-        from: [f64; 3],
-        from_q: &DVector<f64>,
-    ) -> Result<Result<DVector<f64>, WholeBodyFailure>, PlacementError> {
-        let p = self.prepared;
-        let world_from_base = RobotModel::world_from_base(from);
-        let (a, b) = (&p.motion.grasps[k - 1], &p.motion.grasps[k]);
-        let mut q = self.wb.seed(from_q);
-        for i in 1..=SUBSTEPS {
-            let t = i as f64 / SUBSTEPS as f64;
-            let frame = GraspFrame {
-                position: a.position + (b.position - a.position) * t,
-                approach: a.approach.slerp(&b.approach, t),
-                world_from_tool: a.world_from_tool.lerp_slerp(&b.world_from_tool, t),
-            };
-            let target = frame.ik_target_in_cone(
-                &world_from_base,
-                p.rotation,
-                self.manipulation.approach_cone,
-            );
-            q = match self.near(&target, &q)? {
-                Ok(q) => q,
-                Err(failure) => return Ok(Err(failure)),
-            };
-        }
-        Ok(Ok(q))
-    }
-
-    /// `solve_near` from `seed`, continued from its best configuration up to [`ROUNDS`] times
-    /// while it does not converge (each round is one attempt of `max_iterations` steps).
-    fn near(
-        &mut self,
-        target: &IkTarget,
-        seed: &DVector<f64>,
-    ) -> Result<Result<DVector<f64>, WholeBodyFailure>, PlacementError> {
-        let mut seed = seed.clone();
-        let mut last = None;
-        for _ in 0..ROUNDS {
-            let best = match self
-                .wb
-                .solver
-                .solve_near_with(&mut self.wb_data, target, &seed)?
-            {
-                IkOutcome::Solved(IkSolution { q, .. }) => return Ok(Ok(q)),
-                IkOutcome::Infeasible(f) => f.best,
-                IkOutcome::Timeout(best) | IkOutcome::Cancelled(best) => best,
-            };
-            seed = best.q.clone();
-            last = Some(not_converged(&best));
-        }
-        Ok(Err(last.expect("at least one round")))
-    }
-}
-
 /// How many waypoints before a failed one are solved again with the base moving (the arm
 /// alone may have left the arm where the base can no longer help).
 const MAX_BACKTRACK: usize = 3;
-
-/// Intermediate grasp frames per waypoint of the whole-body IK.
-const SUBSTEPS: usize = 4;
-
-/// `solve_near` rounds per intermediate frame.
-const ROUNDS: usize = 3;
-
-fn not_converged(best: &crate::kinematics::ik::IkBest) -> WholeBodyFailure {
-    WholeBodyFailure::Waypoint(WaypointFailure::NotConverged {
-        position_error: best.position_error,
-        rotation_error: best.rotation_error,
-    })
-}

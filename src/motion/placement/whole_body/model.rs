@@ -15,25 +15,82 @@ use crate::motion::placement::PlacementError;
 /// coordinates); for a differential-drive base the prismatic joint along x and the revolute
 /// one only (2: no sideways motion). The root frame is the previous waypoint's base frame, so
 /// one model serves every waypoint; the base joints' limits are
-/// [`WholeBodySettings::max_base_step`] and [`WholeBodySettings::max_yaw_step`].
+/// [`WholeBodySettings::max_base_step`] and [`WholeBodySettings::max_yaw_step`], or one side
+/// of them ([`WholeBodyIk::solver`]): the IK knows no collisions, so a base step that meets
+/// the scene is solved again with the base kept from going that way.
 #[derive(Debug)]
 pub(super) struct WholeBodyIk {
-    pub solver: IkSolver,
     /// Number of base coordinates in front of the arm's (3 or 2).
     pub base_dofs: usize,
+    /// The step bound of each base coordinate (m or rad).
+    pub step_bounds: Vec<f64>,
+}
+
+/// Which side of 0 a base coordinate may take in a whole-body IK model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Side {
+    /// Either, within the step bound.
+    Both,
+    /// `>= 0` only.
+    Positive,
+    /// `<= 0` only.
+    Negative,
 }
 
 impl WholeBodyIk {
-    pub(super) fn new(
-        robot: &RobotModel,
-        settings: &WholeBodySettings,
-        ik: &IkSettings,
-    ) -> Result<WholeBodyIk, PlacementError> {
-        let (model, tool, base_dofs) = build(robot, settings)?;
-        Ok(WholeBodyIk {
-            solver: IkSolver::new(&model, tool, ik.clone())?,
-            base_dofs,
+    pub(super) fn new(robot: &RobotModel, settings: &WholeBodySettings) -> WholeBodyIk {
+        let (step, yaw) = (settings.max_base_step, settings.max_yaw_step);
+        let step_bounds = match robot.base().kind {
+            BaseKind::DifferentialDrive => vec![step, yaw],
+            _ => vec![step, step, yaw],
+        };
+        WholeBodyIk {
+            base_dofs: step_bounds.len(),
+            step_bounds,
+        }
+    }
+
+    /// Number of side patterns ([`WholeBodyIk::code`]'s range): 3 to the number of base
+    /// coordinates.
+    pub(super) fn patterns(&self) -> usize {
+        3_usize.pow(self.base_dofs as u32)
+    }
+
+    /// The index of a side pattern (one [`Side`] per base coordinate), in
+    /// `0..`[`WholeBodyIk::patterns`].
+    pub(super) fn code(sides: &[Side]) -> usize {
+        sides.iter().rev().fold(0, |code, side| {
+            3 * code
+                + match side {
+                    Side::Both => 0,
+                    Side::Positive => 1,
+                    Side::Negative => 2,
+                }
         })
+    }
+
+    /// The IK solver of the model whose base coordinates take the sides `sides`.
+    ///
+    /// # Errors
+    /// [`PlacementError::Pinocchio`] / [`PlacementError::Ik`] if the model cannot be built.
+    pub(super) fn solver(
+        &self,
+        robot: &RobotModel,
+        ik: &IkSettings,
+        sides: &[Side],
+    ) -> Result<IkSolver, PlacementError> {
+        let bounds: Vec<(f64, f64)> = self
+            .step_bounds
+            .iter()
+            .zip(sides)
+            .map(|(b, side)| match side {
+                Side::Both => (-b, *b),
+                Side::Positive => (0.0, *b),
+                Side::Negative => (-b, 0.0),
+            })
+            .collect();
+        let (model, tool) = build(robot, &bounds)?;
+        Ok(IkSolver::new(&model, tool, ik.clone())?)
     }
 
     /// The model's configuration for the base staying where it is and the arm at `arm`.
@@ -63,42 +120,36 @@ impl WholeBodyIk {
     }
 }
 
-/// The whole-body Pinocchio model, its tool frame and the number of base coordinates.
-fn build(
-    robot: &RobotModel,
-    settings: &WholeBodySettings,
-) -> Result<(Model, FrameIndex, usize), PlacementError> {
+/// The whole-body Pinocchio model with the base coordinates' limits `bounds` (forward,
+/// sideways for 3 of them, yaw), and its tool frame.
+fn build(robot: &RobotModel, bounds: &[(f64, f64)]) -> Result<(Model, FrameIndex), PlacementError> {
     let mut b = ModelBuilder::new();
-    let step = settings.max_base_step;
-    let translation = JointLimits::position(-step, step);
+    let forward = bounds[0];
     let mut parent = b.add_joint(
         "whole_body_forward",
         JointIndex::UNIVERSE,
         Isometry3::identity(),
         JointKind::Prismatic { axis: Vector3::x() },
-        translation,
+        JointLimits::position(forward.0, forward.1),
     )?;
-    let base_dofs = match robot.base().kind {
-        BaseKind::DifferentialDrive => 2,
-        _ => {
-            parent = b.add_joint(
-                "whole_body_sideways",
-                parent,
-                Isometry3::identity(),
-                JointKind::Prismatic { axis: Vector3::y() },
-                translation,
-            )?;
-            3
-        }
-    };
+    if let [_, sideways, _] = bounds {
+        parent = b.add_joint(
+            "whole_body_sideways",
+            parent,
+            Isometry3::identity(),
+            JointKind::Prismatic { axis: Vector3::y() },
+            JointLimits::position(sideways.0, sideways.1),
+        )?;
+    }
+    let yaw = bounds[bounds.len() - 1];
     parent = b.add_joint(
         "whole_body_yaw",
         parent,
         Isometry3::identity(),
         JointKind::Revolute { axis: Vector3::z() },
-        JointLimits::position(-settings.max_yaw_step, settings.max_yaw_step),
+        JointLimits::position(yaw.0, yaw.1),
     )?;
     parent = robot.add_arm_to(&mut b, parent)?;
     let tool = b.add_frame("tool", parent, *robot.last_from_tool())?;
-    Ok((b.build()?, tool, base_dofs))
+    Ok((b.build()?, tool))
 }
