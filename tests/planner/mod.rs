@@ -506,10 +506,15 @@ fn certified_arm_edges_plan_the_door_and_the_plan_rechecks() {
         &model,
         "[goal]\ndoor_hinge = { min = 1.5 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
     );
-    let settings = PlannerSettings {
+    // The searches are seeded, so the plan does not depend on the machine's load as long as
+    // each path search finishes inside its wall-clock budget; certified edges make a search
+    // about 4x slower, so the per-path safety net is raised from the default 1 s to 10 s (on
+    // a loaded 2-core machine one approach search took longer than 1 s).
+    let mut settings = PlannerSettings {
         certified_arm_edges: Some(EdgeSettings::default()),
         ..PlannerSettings::default()
     };
+    settings.paths.budget = Duration::from_secs(10);
     let planner = HierarchicalPlanner::new(RobotModel::kinova_gen3_mobile(), settings)
         .expect("valid settings");
     let (planner, plan) = contact::solve_with(planner, &model, &problem);

@@ -267,7 +267,8 @@ impl WholeBodyOutcome {
 /// the base links against the whole scene, and the segment from the previous waypoint with
 /// base, arm and part interpolated together. At the first waypoint the base may move from
 /// `start` within the step bounds when the arm alone cannot reach it; no segment is checked
-/// before it.
+/// before it. The straight approach after its first waypoint and the straight retreat keep the
+/// base still: the arm alone moves the tool in and out along the handle's normal.
 ///
 /// # Errors
 /// [`PlacementError::InvalidSetting`] for bad settings, [`PlacementError::NonFinite`] for a
@@ -309,6 +310,10 @@ pub fn plan_whole_body(
     let mut forced = 0..0;
     // The waypoints reached before the first failure not overcome.
     let mut kept = WholeBodyPlan::default();
+    // The straight approach (after its first waypoint) and the straight retreat run at one
+    // base pose each: the robot moves in and out along the handle's normal with the base still.
+    let trajectory = motion.trajectory();
+    let base_fixed = |k: usize| k > 0 && (k <= *trajectory.start() || k > *trajectory.end());
     let mut k = 0;
     while k < motion.len() {
         let origin = Origin {
@@ -316,6 +321,7 @@ pub fn plan_whole_body(
             start: (start, seed),
             posture: plan.arm.first(),
             arm_first: !forced.contains(&k),
+            base_fixed: base_fixed(k),
         };
         match run.waypoint(k, &origin)? {
             Ok((base, q)) => {

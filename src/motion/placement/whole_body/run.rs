@@ -69,6 +69,9 @@ pub(super) struct Origin<'a> {
     pub posture: Option<&'a DVector<f64>>,
     /// Whether the arm alone is tried first.
     pub arm_first: bool,
+    /// Whether the base must stay where it stood (the straight approach to the grasp and the
+    /// straight retreat from the release): only the arm alone is tried.
+    pub base_fixed: bool,
 }
 
 impl Run<'_> {
@@ -90,7 +93,7 @@ impl Run<'_> {
             self.manipulation.approach_cone,
         );
         let mut fallback = None;
-        if at.arm_first {
+        if at.arm_first || at.base_fixed {
             let attempt = Attempt {
                 base: from,
                 k,
@@ -104,6 +107,12 @@ impl Run<'_> {
                 &mut self.arm_data,
                 &mut self.scratch,
             )?;
+            if at.base_fixed {
+                return Ok(match failure {
+                    None => Ok((from, q)),
+                    Some(f) => Err(WholeBodyFailure::Waypoint(f)),
+                });
+            }
             if failure.is_none() {
                 if !self.drifts(&q, from_q, at.posture) {
                     return Ok(Ok((from, q)));
