@@ -4,6 +4,7 @@
 //! This file holds [`Fused`] and its rule; the joint models are in `model.rs`, the likelihood
 //! and its solver in `solve.rs`, the starts in `start.rs`, the depth noise in `noise.rs`.
 
+mod covariance;
 mod model;
 mod noise;
 mod settings;
@@ -14,6 +15,7 @@ pub use settings::FusedSettings;
 
 use nalgebra::{DMatrix, Matrix2, Point3, Vector3};
 
+use self::covariance::consistent_with;
 use self::model::{Kind, PathPose, State};
 use self::noise::depth_sigma;
 use self::solve::Context;
@@ -44,25 +46,38 @@ use super::uncertainty::{PlaneCovariance, Uncertainty, bic_probability, tangent_
 /// 3. **Joint likelihood.** For a joint hypothesis (revolute: axis, pivot, angle; prismatic:
 ///    direction, displacement) and the path's nuisance parameters (circle radius and height,
 ///    or the line's offset; the approach axis's constant components in the frame turning
-///    with the gripper), the residuals are: the registered part's point-to-plane residuals
-///    `nᵢ · (T sᵢ − qᵢ)` (correspondences within τ), weighted `n_eff / (N · 2σ_d²)` so the
-///    part counts as its `n_eff` occupied τ-voxels; each pose's distance from the circle or
-///    line (2 components over σ_p) and its approach axis's deviation (2 over σ_o); and, with
-///    `couple_travel`, the angle (distance) the path swept between its first and last poses
-///    against the clouds' (over its σ from σ_p). The arc's curvature, the approach axis's
-///    turn and the cloud's rotation then constrain each other.
+///    with the gripper), the residuals are: the clouds' point-to-plane residuals
+///    `nᵢ · (T sᵢ − qᵢ)`; each pose's distance from the circle or line (2 components over
+///    σ_p) and its approach axis's deviation (2 over σ_o); and, with `couple_travel`, the
+///    angle (distance) the path swept between its first and last poses against the clouds'
+///    (over its σ from σ_p). The arc's curvature, the approach axis's turn and the cloud's
+///    rotation then constrain each other. The clouds' points `sᵢ` are chosen per hypothesis
+///    from the pre points near either segmentation of the two-view estimator: those the
+///    motion moves off their surface by more than the gate `3 √2 σ_d` and explains (a post
+///    point within τ, a residual within the gate) better than the static scene does. Not the
+///    change-detected segment as such: of the points that moved about τ it keeps those whose
+///    noise pushed them away from the moved surface, which pulls the swept angle low (by
+///    ≈ 1° on a small door opened 10°). The residuals are weighted `n_eff / (N · 2σ_d²)` (or
+///    by their own mean square when larger), so that the `N` points count as the `n_eff`
+///    τ-voxels they occupy.
 /// 4. **Fit.** Per model, the starts are the two estimates, the rigid registration's screw,
 ///    the algebraic (Kåsa) circle of the path about each candidate axis (and about the axis
 ///    the approach turned about), the contact's displacement and the path's principal
 ///    direction. The two of lowest joint cost are refined by Levenberg–Marquardt, with
 ///    `outer_iterations` re-associations of correspondences and pose outliers (block χ²
 ///    above `pose_outlier_chi2`); the lower cost wins.
-/// 5. **Type.** `BIC = −2 log L + k ln n` on the joint likelihood (truncated: a part point
-///    without correspondence costs τ², an outlier pose `pose_outlier_chi2`), `k` = 9
-///    revolute, 7 prismatic, `n = n_eff + 4 · poses`. The type probability is BIC's
-///    posterior.
-/// 6. **Uncertainty.** The Gauss–Newton covariance `(JᵀJ)⁻¹` of the weighted residuals at
-///    the optimum (scaled by the reduced χ² when above 1), its axis-tilt and pivot blocks.
+/// 5. **Type.** `BIC = −2 log L / ĉ + k ln n` on the joint likelihood (truncated: a
+///    change-detected part point without correspondence costs τ², an outlier pose
+///    `pose_outlier_chi2`), `k` = 9 revolute, 7 prismatic, `n = n_eff + 4 · poses`, `ĉ ≥ 1`
+///    the winner's variance factor (its reduced χ²: a quasi-likelihood, so that noise the
+///    estimated levels understate does not make the type overconfident). The type
+///    probability is BIC's posterior; a near tie is near ½, which the keep-pulling loop of
+///    discovery treats as ambiguous (below its `confident_type_probability`).
+/// 6. **Uncertainty.** The covariance of the fit (`covariance.rs`): the larger, in every
+///    direction, of the Gauss–Newton one scaled by `ĉ` and the cluster-robust sandwich over
+///    τ-voxels and poses; its axis-tilt and pivot blocks are then widened by Birge's ratio
+///    where the path alone (the proprioceptive estimate) disagrees with the fused estimate
+///    beyond its own regions (a bias of the clouds no residual shows).
 ///
 /// The segmentation (`moving`, `part_points`) is the two-view estimator's.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -128,15 +143,17 @@ fn estimate(s: &FusedSettings, i: &Interaction<'_>) -> Result<Estimate, Articula
     let tree = KdTree::new(post);
     let normals = NormalCache::new(post, &tree, s.two_view.neighbor_radius * 1.2);
     let n_sample = evidence.sample.len().max(1) as f64;
+
     let ctx = Context {
         settings: s,
         sample: &evidence.sample,
+        candidates: &evidence.candidates,
+        sigma_d,
         post,
         post_tree: &tree,
         normals: &normals,
         tau: evidence.tau,
         cloud_weight: evidence.n_eff / (n_sample * 2.0 * sigma_d * sigma_d),
-        evidence_fraction: evidence.n_eff / n_sample,
         pair_gate: 3.0 * std::f64::consts::SQRT_2 * sigma_d,
         poses: &poses,
         sigma_p,
@@ -157,41 +174,36 @@ fn estimate(s: &FusedSettings, i: &Interaction<'_>) -> Result<Estimate, Articula
         .into_iter()
         .filter_map(|starts| best_fit(&ctx, starts))
         .collect();
-    // 5. Type.
+    // 5. Type, with 6. the uncertainty's variance factor.
     let n_obs = evidence.n_eff + 4.0 * poses.len() as f64;
-    let bics: Vec<f64> = fits
-        .iter()
-        .map(|(st, cost)| cost + st.parameters() as f64 * n_obs.ln())
-        .collect();
-    let Some(best) = (0..fits.len()).min_by(|&a, &b| bics[a].total_cmp(&bics[b])) else {
+    let bic =
+        |cost: f64, st: &State, c_hat: f64| cost / c_hat + st.parameters() as f64 * n_obs.ln();
+    let Some(best) = (0..fits.len()).min_by(|&a, &b| {
+        bic(fits[a].1, &fits[a].0, 1.0).total_cmp(&bic(fits[b].1, &fits[b].0, 1.0))
+    }) else {
         return Ok(alone(two_view, "the joint fit found no start"));
     };
-    let other = (0..fits.len())
-        .filter(|&k| k != best)
-        .map(|k| bics[k])
-        .fold(f64::INFINITY, f64::min);
-    let type_probability = bic_probability(bics[best], other);
     let state = fits[best].0;
-    // 6. Uncertainty.
-    let uncertainty = ctx
-        .covariance(&state)
-        .map(|cov| uncertainty_of(&state, &cov, type_probability));
-    let explained = explained_fraction(&ctx, &state, &evidence);
-    let terms: Vec<String> = fits
+    let covariance = ctx.covariance(&state);
+    let c_hat = covariance.as_ref().map_or(1.0, |(_, c)| *c);
+    let bics: Vec<f64> = fits
         .iter()
-        .map(|(st, _)| {
-            let [c, p, t] = ctx.cost_terms(st);
-            format!(
-                "{:?} travel {:.4} cloud {c:.1} poses {p:.1} coupling {t:.1}",
-                st.kind, st.travel
-            )
-        })
+        .map(|(st, cost)| bic(*cost, st, c_hat))
         .collect();
+    // Tempered, the other model may come out ahead: a probability below ½, ambiguous.
+    let type_probability = probability_of(&bics, best);
+    // 6. Uncertainty.
+    let joint = joint_of(&state);
+    let uncertainty = covariance.map(|(cov, _)| {
+        let u = uncertainty_of(&state, &cov, type_probability);
+        consistent_with(u, &joint, &proprioceptive)
+    });
+    let explained = explained_fraction(&ctx, &state, &evidence);
     let details = format!(
         "fused: {}; depth sigma {sigma_d:.4} m, pose sigma {sigma_p:.4} m / {sigma_o:.4} rad, \
-         n_eff {:.0}, {} poses; BIC {} (revolute first); explained {explained:.3}; \
-         two-view: {:?}; proprioceptive: {:?}",
-        terms.join("; "),
+         n_eff {:.0}, {} poses; BIC {} (revolute first, variance factor {c_hat:.2}); \
+         explained {explained:.3}; two-view: {:?}; proprioceptive: {:?}",
+        terms_of(&ctx, &fits),
         evidence.n_eff,
         poses.len(),
         bics.iter()
@@ -202,13 +214,36 @@ fn estimate(s: &FusedSettings, i: &Interaction<'_>) -> Result<Estimate, Articula
         proprioceptive.joint.kind(),
     );
     Ok(Estimate {
-        joint: joint_of(&state),
+        joint,
         moving: two_view.moving,
         part_points: two_view.part_points,
         score: unit_score(type_probability * explained),
         details,
         uncertainty,
     })
+}
+
+/// BIC's posterior probability of model `best` against the best of the others.
+fn probability_of(bics: &[f64], best: usize) -> f64 {
+    let other = (0..bics.len())
+        .filter(|&k| k != best)
+        .map(|k| bics[k])
+        .fold(f64::INFINITY, f64::min);
+    bic_probability(bics[best], other)
+}
+
+/// Each fit's kind, travel and cost terms, for the details.
+fn terms_of(ctx: &Context<'_>, fits: &[(State, f64)]) -> String {
+    fits.iter()
+        .map(|(st, _)| {
+            let [c, p, t] = ctx.cost_terms(st);
+            format!(
+                "{:?} travel {:.4} cloud {c:.1} poses {p:.1} coupling {t:.1}",
+                st.kind, st.travel
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
 }
 
 /// One source's estimate as the fused one, with why.

@@ -1,6 +1,8 @@
 //! The joint likelihood of the clouds and the path, and its weighted nonlinear least squares
 //! (Levenberg–Marquardt with re-association of correspondences and pose outliers).
 
+use std::collections::HashSet;
+
 use nalgebra::{DMatrix, DVector, Point3, Vector3};
 
 use super::FusedSettings;
@@ -11,8 +13,15 @@ use crate::articulation::kdtree::KdTree;
 /// Everything the likelihood needs that does not change during the fit.
 pub(super) struct Context<'a> {
     pub(super) settings: &'a FusedSettings,
-    /// The part points the clouds register (pre pose).
+    /// The part points the clouds register (pre pose): the likelihood's cloud term.
     pub(super) sample: &'a [Point3<f64>],
+    /// The points that may be evidence of the motion (pre pose): the fit's correspondences
+    /// are those of them that the motion moves off their surface and explains (see
+    /// [`Self::data`]).
+    pub(super) candidates: &'a [Point3<f64>],
+    /// The depth noise σ_d (m).
+    pub(super) sigma_d: f64,
+
     pub(super) post: &'a [Point3<f64>],
     pub(super) post_tree: &'a KdTree,
     pub(super) normals: &'a NormalCache<'a>,
@@ -24,8 +33,6 @@ pub(super) struct Context<'a> {
     /// The largest point-to-plane residual of a correspondence (m): 3 σ of the difference
     /// of two depth measurements, `3 √2 σ_d`.
     pub(super) pair_gate: f64,
-    /// `n_eff / N`: how much of one independent residual a correspondence is worth.
-    pub(super) evidence_fraction: f64,
     pub(super) poses: &'a [PathPose],
     pub(super) sigma_p: f64,
     pub(super) sigma_o: f64,
@@ -36,33 +43,58 @@ pub(super) struct Context<'a> {
 
 /// The data of one outer iteration: the cloud correspondences and the inlier poses.
 pub(super) struct Data {
-    pairs: Vec<(Point3<f64>, Point3<f64>, Vector3<f64>)>,
-    poses: Vec<PathPose>,
+    pub(super) pairs: Vec<(Point3<f64>, Point3<f64>, Vector3<f64>)>,
+    pub(super) poses: Vec<PathPose>,
     /// The weight of one squared point-to-plane residual in this iteration (m⁻²).
     cloud_weight: f64,
+    /// How much of one independent residual a correspondence is worth: the occupied
+    /// τ-voxels of the correspondences over their number.
+    pub(super) fraction: f64,
 }
 
 impl Context<'_> {
-    /// The correspondences under `state`'s motion (nearest post point within τ with a
-    /// surface normal) and the poses whose block χ² is below the outlier limit (or 9 times
-    /// the median block's, whichever is larger: a poor start keeps its poses).
+    /// The correspondences under `state`'s motion and the poses whose block χ² is below the
+    /// outlier limit (or 9 times the median block's, whichever is larger: a poor start keeps
+    /// its poses).
+    ///
+    /// A candidate point is a correspondence when the motion and the static scene predict
+    /// different measurements of it and the motion's is the one seen: its moved position has
+    /// a post point within τ with a surface normal `n`, the residual `n · (T s − q)` is within
+    /// the gate (3 σ of the difference of two depth measurements), the motion moves it off
+    /// that surface by at least the gate (`|n · (T s − s)|`: a point the motion leaves on its
+    /// surface, near a hinge or sliding along itself, cannot tell the two apart, and which of
+    /// such points a noisy threshold keeps biases the fit), and the static scene explains it
+    /// worse (no post point within τ of where it was, or a larger point-to-plane residual
+    /// there: a static surface in the segment is left out).
     pub(super) fn data(&self, state: &State) -> Data {
         let motion = state.motion();
         let pairs: Vec<(Point3<f64>, Point3<f64>, Vector3<f64>)> = self
-            .sample
+            .candidates
             .iter()
             .filter_map(|s| {
                 let m = motion * s;
                 let (j, _) = self.post_tree.nearest(&m, self.tau)?;
                 let n = self.normals.normal(j)?;
-                // A residual beyond 3 σ of the depth noise is not this surface's.
-                (n.dot(&(m - self.post[j])).abs() <= self.pair_gate).then_some((
-                    *s,
-                    self.post[j],
-                    n,
-                ))
+                let moved = n.dot(&(m - self.post[j])).abs();
+                let off_surface = n.dot(&(m - s)).abs();
+                (moved <= self.pair_gate
+                    && off_surface >= self.pair_gate
+                    && moved < self.static_residual(s))
+                .then_some((*s, self.post[j], n))
             })
             .collect();
+        // Fewer correspondences than a segmented part needs are no evidence (what the motion
+        // moves off its surface by more than the gate is then a sliver: an edge, a handle).
+        let mut pairs = pairs;
+        if pairs.len() < self.settings.two_view.min_part_points {
+            pairs.clear();
+        }
+        // The selected points' evidence in independent τ-voxels.
+        let voxels: HashSet<[i64; 3]> = pairs
+            .iter()
+            .map(|(s, _, _)| s.coords.map(|c| (c / self.tau).floor() as i64).into())
+            .collect();
+        let fraction = voxels.len() as f64 / pairs.len().max(1) as f64;
         // Variance component: residuals larger than the depth noise explains (segmentation,
         // sampling) lower the clouds' weight; the plane noise is the floor.
         let ms = pairs
@@ -70,9 +102,8 @@ impl Context<'_> {
             .map(|(s, q, n)| n.dot(&(motion * s - q)).powi(2))
             .sum::<f64>()
             / pairs.len().max(1) as f64;
-        let cloud_weight = self
-            .cloud_weight
-            .min(self.evidence_fraction / ms.max(1e-12));
+        let cloud_weight =
+            (fraction / (2.0 * self.sigma_d * self.sigma_d)).min(fraction / ms.max(1e-12));
         let chi2: Vec<f64> = self
             .poses
             .iter()
@@ -93,7 +124,17 @@ impl Context<'_> {
             pairs,
             poses,
             cloud_weight,
+            fraction,
         }
+    }
+
+    /// The point-to-plane residual of `s` against the post cloud where it was (∞ without a
+    /// post point within τ or its normal).
+    fn static_residual(&self, s: &Point3<f64>) -> f64 {
+        self.post_tree
+            .nearest(s, self.tau)
+            .and_then(|(j, _)| Some(self.normals.normal(j)?.dot(&(s - self.post[j])).abs()))
+            .unwrap_or(f64::INFINITY)
     }
 
     fn pose_chi2(&self, state: &State, p: &PathPose) -> f64 {
@@ -103,7 +144,7 @@ impl Context<'_> {
 
     /// The travel-coupling residual: the path's travel from its first to its last `ends`
     /// poses against the state's, over its standard deviation; `None` when not coupled.
-    fn coupling(&self, state: &State) -> Option<f64> {
+    pub(super) fn coupling(&self, state: &State) -> Option<f64> {
         let n = self.poses.len();
         if !self.settings.couple_travel || n < 2 * self.ends || self.ends == 0 {
             return None;
@@ -116,7 +157,7 @@ impl Context<'_> {
     }
 
     /// The weighted residuals of `state` on `data`.
-    fn residuals(&self, state: &State, data: &Data) -> DVector<f64> {
+    pub(super) fn residuals(&self, state: &State, data: &Data) -> DVector<f64> {
         let motion = state.motion();
         let w = data.cloud_weight.sqrt();
         let mut r: Vec<f64> = data
@@ -132,7 +173,7 @@ impl Context<'_> {
     }
 
     /// The forward-difference Jacobian of [`Self::residuals`] in the state's offsets.
-    fn jacobian(&self, state: &State, data: &Data, r: &DVector<f64>) -> DMatrix<f64> {
+    pub(super) fn jacobian(&self, state: &State, data: &Data, r: &DVector<f64>) -> DMatrix<f64> {
         let k = state.parameters();
         let h = 1e-7;
         let mut j = DMatrix::zeros(r.len(), k);
@@ -229,26 +270,5 @@ impl Context<'_> {
             .sum();
         let coupling = self.coupling(state).map_or(0.0, |r| r * r);
         [self.cloud_weight * cloud, poses, coupling]
-    }
-
-    /// The Gauss–Newton covariance of the offsets at `state`: `(JᵀJ)⁻¹` of the weighted
-    /// residuals on the state's data, scaled by the reduced χ² when that is above 1 (noise
-    /// the estimated levels understate). `None` when singular or not finite.
-    pub(super) fn covariance(&self, state: &State) -> Option<DMatrix<f64>> {
-        let data = self.data(state);
-        let r = self.residuals(state, &data);
-        let k = state.parameters();
-        let j = self.jacobian(state, &data, &r);
-        let inv = (j.transpose() * &j).try_inverse()?;
-        // Degrees of freedom with the correspondences counted at their evidence.
-        let pairs = data.pairs.len() as f64;
-        let n = pairs * self.evidence_fraction + (r.len() as f64 - pairs);
-        let scale = if n > k as f64 + 1.0 {
-            (r.norm_squared() / (n - k as f64)).max(1.0)
-        } else {
-            1.0
-        };
-        let cov = inv * scale;
-        cov.iter().all(|v| v.is_finite()).then_some(cov)
     }
 }
