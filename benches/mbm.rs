@@ -383,7 +383,7 @@ fn main() {
                 &upper,
                 check,
                 motion,
-                &settings,
+                settings,
                 &Termination::none(),
             )
             .expect("valid input");
