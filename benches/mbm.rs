@@ -39,11 +39,13 @@ use std::time::{Duration, Instant};
 
 use kinscene::Termination;
 use kinscene::kinematics::robot::{
-    ArmEdgeCheck, EdgeScene, EdgeSettings, Exempt, RobotCollision, RobotConfig, RobotImportOptions,
-    RobotModel, RobotSpheres, SphereData, SphereObstacles, SphereSettings, Srdf,
+    ArmCheck, ArmEdgeCheck, EdgeScene, EdgeSettings, Exempt, RobotCollision, RobotConfig,
+    RobotImportOptions, RobotModel, RobotSpheres, SphereData, SphereObstacles, SphereSettings,
+    Srdf,
 };
 use kinscene::motion::paths::{
-    MotionCheck, PathOutcome, PathSettings, first_invalid, plan_arm, plan_arm_with_motion,
+    MotionCheck, PathOutcome, PathSettings, Simplifier, first_invalid, plan_arm,
+    plan_arm_with_motion,
 };
 use kinscene::scene::{
     BaseShape, SceneData, SceneModel, SceneModelBuilder, Shape, State, forward_kinematics,
@@ -52,6 +54,10 @@ use nalgebra::{DVector, Isometry3, Quaternion, Translation3, UnitQuaternion, Vec
 use serde::Deserialize;
 
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
+
+/// Planning modes: exact, sphere fast path, certified edges, [`ArmCheck`] with OMPL's full
+/// simplifier and with [`Simplifier::Shortcut`].
+const MODES: usize = 5;
 
 #[derive(Deserialize)]
 struct Problem {
@@ -216,6 +222,10 @@ fn main() {
         .find_map(|a| a.parse().ok())
         .unwrap_or(100);
     let with_exact = !std::env::args().any(|a| a == "no-exact");
+    let with_certified = !std::env::args().any(|a| a == "no-certified");
+    let with_fast = !std::env::args().any(|a| a == "no-fast");
+    let profile = std::env::args().any(|a| a == "profile");
+    let mut profiles: Vec<Profile> = Vec::new();
     let mut problems = problems();
     let mut taken = std::collections::BTreeMap::<String, usize>::new();
     problems.retain(|p| {
@@ -225,8 +235,14 @@ fn main() {
     });
     let robot = panda();
     let collision = RobotCollision::new(&robot).expect("collision model");
-    let spheres =
-        RobotSpheres::new(&robot, &collision, &SphereSettings::default()).expect("sphere model");
+    // `spheres=N`: at most N spheres per link (default: SphereSettings::default()).
+    let sphere_settings = SphereSettings {
+        max_per_link: std::env::args()
+            .find_map(|a| a.strip_prefix("spheres=").and_then(|n| n.parse().ok()))
+            .unwrap_or(SphereSettings::default().max_per_link),
+        ..SphereSettings::default()
+    };
+    let spheres = RobotSpheres::new(&robot, &collision, &sphere_settings).expect("sphere model");
     let (lower, upper) = robot.arm_bounds();
     let (lower, upper) = (lower.as_slice().to_vec(), upper.as_slice().to_vec());
     let settings = PathSettings {
@@ -234,12 +250,16 @@ fn main() {
         seed: Some(1),
         ..PathSettings::default()
     };
+    let shortcut = PathSettings {
+        simplifier: Simplifier::Shortcut,
+        ..settings.clone()
+    };
     println!(
         "MotionBenchMaker Panda: {} problems, {} spheres on the robot",
         problems.len(),
         spheres.count()
     );
-    let mut stats = [(); 3].map(|_| Stats {
+    let mut stats = [(); MODES].map(|_| Stats {
         times: Vec::new(),
         solved: 0,
         recheck_failures: 0,
@@ -296,8 +316,48 @@ fn main() {
         )
         .expect("edge check");
         let certified = |a: &[f64], b: &[f64]| edges.check(a, b);
-        let modes: [(&Checker<'_>, Option<&MotionCheck<'_>>); 3] =
-            [(&exact, None), (&fast, None), (&fast, Some(&certified))];
+        let arm = ArmCheck::new(
+            &robot,
+            &collision,
+            &spheres,
+            EdgeScene {
+                model: &model,
+                data: &data,
+                exempt: Exempt::Nothing,
+                margin: 0.0,
+            },
+            [0.0; 3],
+        )
+        .expect("arm check");
+        let arm_valid = |q: &[f64]| arm.is_valid(q);
+        let arm_motion = |a: &[f64], b: &[f64]| arm.check_motion(a, b, settings.resolution);
+        let modes: [(&Checker<'_>, Option<&MotionCheck<'_>>, &PathSettings); MODES] = [
+            (&exact, None, &settings),
+            (&fast, None, &settings),
+            (&fast, Some(&certified), &settings),
+            (&arm_valid, Some(&arm_motion), &settings),
+            (&arm_valid, Some(&arm_motion), &shortcut),
+        ];
+        if profile {
+            let settings_off = PathSettings {
+                simplify: false,
+                ..settings.clone()
+            };
+            for (k, name) in [(1, "fast"), (3, "arm"), (4, "arm shortcut")] {
+                let (check, motion, s) = modes[k];
+                let runs: &[(bool, &PathSettings)] = if k == 4 {
+                    &[(true, s)]
+                } else {
+                    &[(true, s), (false, &settings_off)]
+                };
+                for &(simplified, s) in runs {
+                    profiles.push(profile_one(
+                        name, simplified, problem, &lower, &upper, check, motion, s,
+                    ));
+                }
+            }
+            continue;
+        }
         if !warmed {
             // The first call loads the OMPL shim: not charged to any problem.
             let _ = plan_arm(
@@ -311,8 +371,8 @@ fn main() {
             );
             warmed = true;
         }
-        for (k, (stat, (check, motion))) in stats.iter_mut().zip(modes).enumerate() {
-            if k == 0 && !with_exact {
+        for (k, (stat, (check, motion, settings))) in stats.iter_mut().zip(modes).enumerate() {
+            if k == 0 && !with_exact || k == 1 && !with_fast || k == 2 && !with_certified {
                 continue;
             }
             let t0 = Instant::now();
@@ -323,7 +383,7 @@ fn main() {
                 &upper,
                 check,
                 motion,
-                &settings,
+                settings,
                 &Termination::none(),
             )
             .expect("valid input");
@@ -337,6 +397,10 @@ fn main() {
             }
         }
     }
+    if profile {
+        report_profiles(&profiles);
+        return;
+    }
     let attempted = problems.len() - invalid_endpoints;
     println!(
         "invalid endpoints (start or goal collides with this Panda model): {invalid_endpoints}"
@@ -346,6 +410,8 @@ fn main() {
         "exact parry",
         "sphere fast path",
         "fast path, certified edges",
+        "ArmCheck, motions in Rust",
+        "ArmCheck, shortcut simplifier",
     ];
     for (name, stat) in names.iter().zip(&mut stats) {
         if stat.times.is_empty() {
@@ -365,9 +431,113 @@ fn main() {
             stat.recheck_failures
         );
     }
+    let ratio = |a: usize, b: usize| medians[a].as_secs_f64() / medians[b].as_secs_f64().max(1e-12);
     println!(
-        "median ratios exact / fast path: {:.2}, certified / fast path: {:.2} (targets: 100 % of solvable, median <= 1 ms, p95 <= 20 ms)",
-        medians[0].as_secs_f64() / medians[1].as_secs_f64().max(1e-12),
-        medians[2].as_secs_f64() / medians[1].as_secs_f64().max(1e-12)
+        "median ratios against ArmCheck (full simplifier): exact {:.2}, fast path {:.2}, \
+         certified {:.2}, ArmCheck with shortcut simplifier {:.2}; against the fast path: \
+         ArmCheck {:.2}, ArmCheck with shortcut {:.2} (0 where a mode was skipped; targets: 100 % of \
+         solvable, median <= 1 ms, p95 <= 20 ms)",
+        ratio(0, 3),
+        ratio(1, 3),
+        ratio(2, 3),
+        ratio(4, 3),
+        ratio(3, 1),
+        ratio(4, 1)
     );
+}
+
+/// One plan's time split: wall clock, time inside the Rust callbacks, calls.
+struct Profile {
+    mode: &'static str,
+    simplified: bool,
+    solved: bool,
+    wall: Duration,
+    in_checks: Duration,
+    states: u64,
+    motions: u64,
+}
+
+/// Plans `problem` once with counting wrappers around the callbacks.
+#[allow(clippy::too_many_arguments)]
+fn profile_one(
+    mode: &'static str,
+    simplified: bool,
+    problem: &Problem,
+    lower: &[f64],
+    upper: &[f64],
+    check: &Checker<'_>,
+    motion: Option<&MotionCheck<'_>>,
+    settings: &PathSettings,
+) -> Profile {
+    use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
+    let (states, motions, ns) = (AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0));
+    let timed = |f: &dyn Fn() -> bool, count: &AtomicU64| {
+        let t = Instant::now();
+        let v = f();
+        ns.fetch_add(t.elapsed().as_nanos() as u64, Relaxed);
+        count.fetch_add(1, Relaxed);
+        v
+    };
+    let valid = |q: &[f64]| timed(&|| check(q), &states);
+    let (timed, motions_count) = (&timed, &motions);
+    let whole = motion.map(|m| move |a: &[f64], b: &[f64]| timed(&|| m(a, b), motions_count));
+    let whole = whole.as_ref().map(|m| m as &MotionCheck<'_>);
+    let t0 = Instant::now();
+    let outcome = plan_arm_with_motion(
+        &problem.start,
+        &problem.goal,
+        lower,
+        upper,
+        &valid,
+        whole,
+        settings,
+        &Termination::none(),
+    )
+    .expect("valid input");
+    Profile {
+        mode,
+        simplified,
+        solved: matches!(outcome, PathOutcome::Solved(_)),
+        wall: t0.elapsed(),
+        in_checks: Duration::from_nanos(ns.load(Relaxed)),
+        states: states.load(Relaxed),
+        motions: motions.load(Relaxed),
+    }
+}
+
+/// Medians per mode, with and without simplification, over the problems both solved.
+fn report_profiles(profiles: &[Profile]) {
+    for mode in ["fast", "arm", "arm shortcut"] {
+        for simplified in [true, false] {
+            let mut rows: Vec<&Profile> = profiles
+                .iter()
+                .filter(|p| p.mode == mode && p.simplified == simplified && p.solved)
+                .collect();
+            if rows.is_empty() {
+                continue;
+            }
+            let median = |f: &dyn Fn(&Profile) -> f64, rows: &mut Vec<&Profile>| {
+                rows.sort_by(|a, b| f(a).total_cmp(&f(b)));
+                f(rows[rows.len() / 2])
+            };
+            let wall = median(&|p| p.wall.as_secs_f64() * 1e3, &mut rows);
+            let share = median(
+                &|p| p.in_checks.as_secs_f64() / p.wall.as_secs_f64(),
+                &mut rows,
+            );
+            let states = median(&|p| p.states as f64, &mut rows);
+            let motions = median(&|p| p.motions as f64, &mut rows);
+            let per_call = median(
+                &|p| p.in_checks.as_secs_f64() * 1e6 / (p.states + p.motions).max(1) as f64,
+                &mut rows,
+            );
+            println!(
+                "profile {mode:>12} simplify {simplified:>5}: {} solved, median wall {wall:.2} ms, \
+                 in callbacks {:.0} %, state calls {states:.0}, motion calls {motions:.0}, \
+                 {per_call:.2} us per call",
+                rows.len(),
+                share * 100.0
+            );
+        }
+    }
 }

@@ -327,7 +327,12 @@ KS_API int ks_ompl_plan(const ks_ompl_plan_request* request, ks_ompl_validity_fn
 
         og::PathGeometric path(*pdef->getSolutionPath()->as<og::PathGeometric>());
         const Clock::time_point t1 = Clock::now();
-        if (r.simplify && !cancelled()) {
+        if (r.simplify == KS_OMPL_SIMPLIFY_SHORTCUT && !cancelled()) {
+            // Each pass only replaces pieces by motions it checked; bounded by the state count.
+            og::PathSimplifier simplifier(si);
+            simplifier.reduceVertices(path);
+            simplifier.shortcutPath(path);
+        } else if (r.simplify != KS_OMPL_SIMPLIFY_OFF && !cancelled()) {
             // No goal is given to the simplifier, so it never moves the path's last state.
             og::PathSimplifier simplifier(si);
             og::PathGeometric simplified(path);

@@ -10,6 +10,13 @@
 
 #include "ks_common.h"
 
+// Path simplification (ks_ompl_plan_request::simplify).
+enum {
+    KS_OMPL_SIMPLIFY_OFF = 0,       // none
+    KS_OMPL_SIMPLIFY_FULL = 1,      // PathSimplifier::simplify with the remaining time
+    KS_OMPL_SIMPLIFY_SHORTCUT = 2,  // one reduceVertices and one shortcutPath pass
+};
+
 // State spaces.
 enum { KS_OMPL_SPACE_SE2 = 0, KS_OMPL_SPACE_REAL_VECTOR = 1 };
 
@@ -54,7 +61,7 @@ typedef struct ks_ompl_plan_request {
     double range;              // planner range; <= 0: the planner's default
     double resolution;         // setStateValidityCheckingResolution, fraction of the max extent
     double budget_s;           // time budget in seconds (planning + simplification)
-    int32_t simplify;          // non-zero: run PathSimplifier::simplify with the remaining time
+    int32_t simplify;          // KS_OMPL_SIMPLIFY_*
     uint32_t interpolate_to;   // PathGeometric::interpolate(count) when > 0
     int32_t has_cost_threshold;// non-zero: path-length objective with cost_threshold
     double cost_threshold;

@@ -12,6 +12,12 @@ use crate::global::{DEFAULT_LOG_LEVEL, LogLevel};
 
 pub(crate) const SPACE_SE2: i32 = 0;
 pub(crate) const SPACE_REAL_VECTOR: i32 = 1;
+/// `ks_ompl_plan_request::simplify`: no simplification.
+pub(crate) const SIMPLIFY_OFF: i32 = 0;
+/// `ks_ompl_plan_request::simplify`: `PathSimplifier::simplify`.
+pub(crate) const SIMPLIFY_FULL: i32 = 1;
+/// `ks_ompl_plan_request::simplify`: one `reduceVertices` and one `shortcutPath` pass.
+pub(crate) const SIMPLIFY_SHORTCUT: i32 = 2;
 
 /// `ks_ompl_validity_fn`.
 pub(crate) type ValidityFn = unsafe extern "C" fn(*mut c_void, *const f64, usize) -> c_int;

@@ -53,5 +53,5 @@ pub use checker::{MotionValidator, StateValidityChecker};
 pub use error::Error;
 pub use global::{DEFAULT_LOG_LEVEL, LogLevel, load, set_log_level, set_seed};
 pub use plan::{PlanOutcome, PlanStatus, plan, plan_with_motion};
-pub use settings::{PlanSettings, Planner, Termination};
+pub use settings::{PlanSettings, Planner, Simplifier, Termination};
 pub use space::{Problem, StateSpace};

@@ -177,7 +177,11 @@ pub fn plan_with_motion<C: StateValidityChecker + ?Sized, M: MotionValidator + ?
         range: settings.range.unwrap_or(0.0),
         resolution: settings.resolution_fraction,
         budget_s: termination.budget.as_secs_f64(),
-        simplify: i32::from(settings.simplify),
+        simplify: match (settings.simplify, settings.simplifier) {
+            (false, _) => ffi::SIMPLIFY_OFF,
+            (true, crate::Simplifier::Full) => ffi::SIMPLIFY_FULL,
+            (true, crate::Simplifier::Shortcut) => ffi::SIMPLIFY_SHORTCUT,
+        },
         // validate() checked that it fits.
         interpolate_to: settings.interpolate_to.map_or(0, |n| n as u32),
         has_cost_threshold: i32::from(settings.cost_threshold.is_some()),

@@ -79,6 +79,21 @@ impl Planner {
     }
 }
 
+/// How [`PlanSettings::simplify`] shortens a solution path.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[non_exhaustive]
+pub enum Simplifier {
+    /// OMPL's `PathSimplifier::simplify`: shortcutting, B-spline smoothing, a repair pass and
+    /// vertex reduction, repeated while they shorten the path and time is left. The default:
+    /// the shortest, smoothest paths, usually costing more motion checks than planning did.
+    #[default]
+    Full,
+    /// One pass of `PathSimplifier::reduceVertices` (random vertex pairs joined directly) and
+    /// one of `shortcutPath` (random points on the path joined directly): most of the
+    /// shortening for a fraction of the checks, no smoothing.
+    Shortcut,
+}
+
 /// How to plan. `Default` gives RRTConnect, OMPL's default range and resolution, and
 /// simplification on.
 #[derive(Debug, Clone, PartialEq)]
@@ -98,10 +113,14 @@ pub struct PlanSettings {
     /// jumped over. (`kinscene::motion::paths::PathSettings::resolution` is the same spacing
     /// in the space's distance.)
     pub resolution_fraction: f64,
-    /// Shorten and smooth the solution with OMPL's `PathSimplifier::simplify`, for the time
-    /// left in the budget (at least one pass, even when the planner used the whole budget).
-    /// Skipped when cancelled. The path's first and last states are kept.
+    /// Shorten the solution with OMPL's `PathSimplifier` as [`PlanSettings::simplifier`] says
+    /// (the full simplifier for the time left in the budget, at least one pass even when the
+    /// planner used the whole budget). Skipped when cancelled. The path's first and last
+    /// states are kept.
     pub simplify: bool,
+    /// What simplification does when [`PlanSettings::simplify`] is on. Default
+    /// [`Simplifier::Full`].
+    pub simplifier: Simplifier,
     /// Interpolate the final path to this many states (OMPL's `PathGeometric::interpolate`,
     /// more states on longer segments); a path that already has as many is left alone.
     /// At least 2.
@@ -121,6 +140,7 @@ impl Default for PlanSettings {
             range: None,
             resolution_fraction: 0.01,
             simplify: true,
+            simplifier: Simplifier::Full,
             interpolate_to: None,
             cost_threshold: None,
         }

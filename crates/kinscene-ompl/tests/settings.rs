@@ -4,8 +4,8 @@ use std::f64::consts::PI;
 use std::time::Duration;
 
 use kinscene_ompl::{
-    LogLevel, PlanSettings, PlanStatus, Planner, Problem, StateSpace, Termination, plan,
-    set_log_level, set_seed,
+    LogLevel, PlanSettings, PlanStatus, Planner, Problem, Simplifier, StateSpace, Termination,
+    plan, set_log_level, set_seed,
 };
 
 use crate::common::{assert_path_valid, distance, length, serial};
@@ -139,6 +139,37 @@ fn same_seed_gives_the_same_path_and_simplification_shortens_it() {
     );
     // The shortest way around the disc (two tangents plus an arc) is ≥ the straight 1.131.
     assert!(l_simple >= 0.8 * 2f64.sqrt());
+}
+
+/// The shortcut simplifier starts from the same raw path (same seed) and only replaces pieces
+/// by checked motions: the path stays valid (dense check), keeps its ends and is no longer
+/// than the raw one.
+#[test]
+fn shortcut_simplifier_keeps_the_path_valid_and_no_longer() {
+    let _serial = serial();
+    let budget = Duration::from_secs(5);
+    let raw = PlanSettings {
+        simplify: false,
+        ..PlanSettings::default()
+    };
+    set_seed(7).unwrap();
+    let first = run(&raw, budget);
+    assert_eq!(first.status, PlanStatus::ExactSolution);
+    let shortcut = PlanSettings {
+        simplifier: Simplifier::Shortcut,
+        ..PlanSettings::default()
+    };
+    set_seed(7).unwrap();
+    let short = run(&shortcut, budget);
+    assert_eq!(short.status, PlanStatus::ExactSolution);
+    assert_path_valid(&problem().space, &short.path, outside_disc);
+    assert_eq!(short.path.first(), first.path.first());
+    assert_eq!(short.path.last(), first.path.last());
+    let (l_raw, l_short) = (
+        length(&problem().space, &first.path),
+        length(&problem().space, &short.path),
+    );
+    assert!(l_short <= l_raw + 1e-9, "shortcut {l_short} > raw {l_raw}");
 }
 
 #[test]

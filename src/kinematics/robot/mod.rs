@@ -128,8 +128,8 @@ pub use model::{
 pub use pairs::{AllowedPair, PairReason, PairSampling};
 pub use pinocchio::TOOL_FRAME;
 pub use spheres::{
-    ArmEdgeCheck, CELL_SLACK, EdgeScene, EdgeSettings, RobotSpheres, SPHERE_SLACK, Sphere,
-    SphereData, SphereObstacles, SphereSettings,
+    ArmCheck, ArmCheckData, ArmEdgeCheck, CELL_SLACK, EdgeScene, EdgeSettings, RobotSpheres,
+    SPHERE_SLACK, Sphere, SphereData, SphereObstacles, SphereSettings,
 };
 pub use srdf::{DisabledPair, GroupState, Srdf, SrdfGroup};
 pub use stow::StowSearch;

@@ -56,8 +56,11 @@ use crate::InvalidSetting;
 
 pub use differential::{DifferentialFailure, SAME_POSITION, STRAIGHT_IN, differential_drive};
 pub use error::PathError;
-pub use kinscene_ompl::Planner;
-pub use plan::{CONTINUOUS_JOINT_WINDOW, MotionCheck, plan_arm, plan_arm_with_motion, plan_base};
+pub use kinscene_ompl::{Planner, Simplifier};
+pub use plan::{
+    CONTINUOUS_JOINT_WINDOW, MotionCheck, plan_arm, plan_arm_checked, plan_arm_with_motion,
+    plan_base,
+};
 pub use recheck::first_invalid;
 
 /// How to plan a path.
@@ -81,6 +84,11 @@ pub struct PathSettings {
     /// Shorten and smooth the path with OMPL's `PathSimplifier` (within the budget). Default
     /// true.
     pub simplify: bool,
+    /// What simplification does when [`PathSettings::simplify`] is on. Default
+    /// [`Simplifier::Full`] (OMPL's full simplifier, shortest and smoothest paths);
+    /// [`Simplifier::Shortcut`] gets most of the shortening for a fraction of the motion
+    /// checks.
+    pub simplifier: Simplifier,
     /// Seed for OMPL's random generator: with a seed, the same call gives the same path
     /// (given a deterministic validity closure and a planner that stops before its budget).
     /// Seeded calls are serialised process-wide and no other [`plan_base`]/[`plan_arm`] call
@@ -97,6 +105,7 @@ impl Default for PathSettings {
             resolution: 0.01,
             range: None,
             simplify: true,
+            simplifier: Simplifier::Full,
             seed: None,
         }
     }

@@ -10,6 +10,7 @@ use kinscene_ompl::{
 
 use super::{PathError, PathFailure, PathOutcome, PathSettings};
 use crate::InvalidSetting;
+use crate::kinematics::robot::ArmCheck;
 
 /// Half-width (rad) of the window a continuous joint (infinite bounds) is planned in: the
 /// joint is bounded to `[min(start, goal) − W, max(start, goal) + W]`, one half turn of slack
@@ -98,6 +99,41 @@ pub fn plan_arm(
         upper,
         valid,
         None,
+        settings,
+        termination,
+    )
+}
+
+/// [`plan_arm`] with the arm's fast exact check: states by [`ArmCheck::is_valid`], motions by
+/// [`ArmCheck::check_motion`] at [`PathSettings::resolution`] (one call into Rust per motion
+/// in place of one per state, the same states checked as OMPL's discrete motion check would,
+/// scratch reused). The returned path is free at every state that check visits, with the
+/// exact parry answer at each.
+///
+/// # Errors
+/// As [`plan_arm`].
+///
+/// [`ArmCheck::is_valid`]: crate::kinematics::robot::ArmCheck::is_valid
+/// [`ArmCheck::check_motion`]: crate::kinematics::robot::ArmCheck::check_motion
+pub fn plan_arm_checked(
+    start: &[f64],
+    goal: &[f64],
+    lower: &[f64],
+    upper: &[f64],
+    check: &ArmCheck<'_>,
+    settings: &PathSettings,
+    termination: &crate::control::Termination<'_>,
+) -> Result<PathOutcome, PathError> {
+    let valid = |q: &[f64]| check.is_valid(q);
+    let resolution = settings.resolution;
+    let motion = |a: &[f64], b: &[f64]| check.check_motion(a, b, resolution);
+    plan_arm_with_motion(
+        start,
+        goal,
+        lower,
+        upper,
+        &valid,
+        Some(&motion),
         settings,
         termination,
     )
@@ -224,6 +260,7 @@ fn run<C: StateValidityChecker>(
         range: settings.range,
         resolution_fraction: fraction,
         simplify: settings.simplify,
+        simplifier: settings.simplifier,
         ..PlanSettings::default()
     };
     // The shim is loaded before the budget starts (the first call's load is not planning).

@@ -38,6 +38,7 @@
 //! # Ok::<(), kinscene::kinematics::robot::RobotError>(())
 //! ```
 
+mod arm;
 mod check;
 mod clip;
 mod cover;
@@ -49,6 +50,7 @@ use nalgebra::Point3;
 use super::{RobotCollision, RobotError, RobotModel};
 use crate::InvalidSetting;
 
+pub use arm::{ArmCheck, ArmCheckData};
 pub use check::{SPHERE_SLACK, SphereData};
 pub use cover::CELL_SLACK;
 pub use edge::{ArmEdgeCheck, EdgeScene, EdgeSettings};

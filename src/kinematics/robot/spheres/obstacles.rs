@@ -39,6 +39,10 @@ pub struct SphereObstacles {
     /// Per sphere kind (bit 0: base link, bit 1: contact shape), the obstacles it is tested
     /// against.
     sets: [Vec<Block>; 4],
+    /// Per sphere kind, per lane of its blocks (block-major), the obstacle's index in the
+    /// order [`SphereObstacles::new`] takes the scene's shapes (base shapes, then each part's
+    /// shapes, left-out parts skipped); `u32::MAX` for padding lanes.
+    index: [Vec<u32>; 4],
     count: usize,
 }
 
@@ -90,16 +94,22 @@ impl SphereObstacles {
             }
         }
         let count = all.len();
-        let sets = std::array::from_fn(|kind| {
+        let kept = |kind: usize| {
             let (base, contact) = (kind & 1 != 0, kind & 2 != 0);
-            let kept: Vec<Rounded> = all
-                .iter()
-                .filter(|(_, floor, grasp)| !(base && *floor || contact && *grasp))
-                .map(|(o, _, _)| *o)
-                .collect();
+            all.iter()
+                .enumerate()
+                .filter(move |(_, (_, floor, grasp))| !(base && *floor || contact && *grasp))
+        };
+        let sets = std::array::from_fn(|kind| {
+            let kept: Vec<Rounded> = kept(kind).map(|(_, (o, _, _))| *o).collect();
             kept.chunks(LANES).map(pack).collect()
         });
-        SphereObstacles { sets, count }
+        let index = std::array::from_fn(|kind| {
+            let mut index: Vec<u32> = kept(kind).map(|(i, _)| i as u32).collect();
+            index.resize(index.len().div_ceil(LANES) * LANES, u32::MAX);
+            index
+        });
+        SphereObstacles { sets, index, count }
     }
 
     /// The number of obstacles (scene shapes not left out by the exemption).
@@ -117,21 +127,72 @@ impl SphereObstacles {
     /// (rounding radius + margin + [`SPHERE_SLACK`]), or `None`: then the robot's exact
     /// geometry keeps the margin from the scene.
     pub fn first_hit(&self, spheres: &SphereData) -> Option<usize> {
-        for (l, &(start, n)) in spheres.links.iter().enumerate() {
-            for s in start..start + n {
-                let set = &self.sets[usize::from(spheres.kind[s] & 3)];
-                let p = [
-                    f32x8::splat(spheres.x[s]),
-                    f32x8::splat(spheres.y[s]),
-                    f32x8::splat(spheres.z[s]),
-                ];
-                let r = f32x8::splat(spheres.r[s]);
-                if set.iter().any(|b| hits(b, &p, r)) {
-                    return Some(l);
+        (0..spheres.links.len()).find(|&l| self.link_hits(spheres, l))
+    }
+
+    /// Whether a sphere of link `l` in `spheres` comes within its obstacles' reach (as
+    /// [`SphereObstacles::first_hit`] tests each link); `false` for a link not placed.
+    pub(super) fn link_hits(&self, spheres: &SphereData, l: usize) -> bool {
+        let Some(&(start, n)) = spheres.links.get(l) else {
+            return false;
+        };
+        (start..start + n).any(|s| {
+            let set = &self.sets[usize::from(spheres.kind[s] & 3)];
+            let p = [
+                f32x8::splat(spheres.x[s]),
+                f32x8::splat(spheres.y[s]),
+                f32x8::splat(spheres.z[s]),
+            ];
+            let r = f32x8::splat(spheres.r[s]);
+            set.iter().any(|b| hits(b, &p, r))
+        })
+    }
+
+    /// Sets `hit[k]` for every obstacle `k` (the order of [`SphereObstacles::new`]) that a
+    /// sphere of link `l` in `spheres` reaches, as [`SphereObstacles::link_hits`] tests them;
+    /// `hit` is resized to the number of obstacles, earlier flags are kept. Returns whether
+    /// any sphere reaches any obstacle.
+    pub(super) fn link_hit_obstacles(
+        &self,
+        spheres: &SphereData,
+        l: usize,
+        hit: &mut Vec<bool>,
+    ) -> bool {
+        hit.resize(self.count, false);
+        let Some(&(start, n)) = spheres.links.get(l) else {
+            return false;
+        };
+        let mut any = false;
+        for s in start..start + n {
+            let kind = usize::from(spheres.kind[s] & 3);
+            let p = [
+                f32x8::splat(spheres.x[s]),
+                f32x8::splat(spheres.y[s]),
+                f32x8::splat(spheres.z[s]),
+            ];
+            let r = f32x8::splat(spheres.r[s]);
+            for (b, block) in self.sets[kind].iter().enumerate() {
+                let mut mask = reached(block, &p, r).to_bitmask();
+                while mask != 0 {
+                    let lane = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    if let Some(flag) = hit.get_mut(self.index[kind][b * LANES + lane] as usize) {
+                        *flag = true;
+                        any = true;
+                    }
                 }
             }
         }
-        None
+        any
+    }
+
+    /// Whether the ball at `center` (world) of radius `radius` comes within the reach of any
+    /// obstacle, none exempt: when it does not, no sphere inside it does, whatever its kind.
+    pub(super) fn ball_hits(&self, center: [f32; 3], radius: f32) -> bool {
+        let p = center.map(f32x8::splat);
+        let r = f32x8::splat(radius);
+        // Set 0 (neither base link nor contact shape) exempts nothing: every obstacle.
+        self.sets[0].iter().any(|b| hits(b, &p, r))
     }
 }
 
@@ -176,6 +237,13 @@ impl SphereObstacles {
 /// `p` to the box (clamped per box axis) is at most `r` plus the lane's reach.
 #[inline]
 fn hits(b: &Block, p: &[f32x8; 3], r: f32x8) -> bool {
+    reached(b, p, r).any()
+}
+
+/// Per lane, whether the sphere at `p` of radius `r` reaches the lane's rounded box (a lane
+/// mask, see [`hits`]).
+#[inline]
+fn reached(b: &Block, p: &[f32x8; 3], r: f32x8) -> f32x8 {
     let d = [p[0] - b.center[0], p[1] - b.center[1], p[2] - b.center[2]];
     let zero = f32x8::splat(0.0);
     let mut dist2 = zero;
@@ -185,7 +253,7 @@ fn hits(b: &Block, p: &[f32x8; 3], r: f32x8) -> bool {
         dist2 += out * out;
     }
     let reach = r + b.reach;
-    dist2.simd_le(reach * reach).any()
+    dist2.simd_le(reach * reach)
 }
 
 /// Packs up to 8 obstacles into a block; missing lanes are far away with reach 0.

@@ -21,12 +21,16 @@
 //! part included ([`Exempt::Grasp`]). Away from the handle nothing is exempt
 //! ([`Exempt::Nothing`]).
 
+mod link;
+
 use nalgebra::{Isometry3, Point3, Vector3};
 
 use super::{RobotConfig, RobotError, RobotModel};
 use crate::scene::collision::Body;
 use crate::scene::collision::geometry::{CompiledShape, Placed, WorldBox};
 use crate::scene::{BaseShapeId, PartId, SceneData, SceneModel};
+
+pub(crate) use link::PlacedScene;
 
 /// Highest top (m, world z) of a scene shape that counts as the floor the base drives on: the
 /// base links' shapes (wheels, casters) may touch such shapes; every other robot shape keeps
@@ -186,82 +190,6 @@ impl RobotCollision {
             }
         }
         None
-    }
-
-    /// Whether the shapes of links `i` and `j` touch or overlap at `link_poses` (exact, as
-    /// [`RobotCollision::self_collision`] tests a pair; allowed or not). `false` if either
-    /// link has no pose or no shapes.
-    pub fn pair_touches(&self, link_poses: &[Isometry3<f64>], i: usize, j: usize) -> bool {
-        match (link_poses.get(i), link_poses.get(j)) {
-            (Some(pi), Some(pj)) if i < self.shapes.len() && j < self.shapes.len() => {
-                let (a, b) = (self.place_link(i, pi), self.place_link(j, pj));
-                min_distance(&a, &b, 0.0) <= 0.0
-            }
-            _ => false,
-        }
-    }
-
-    /// The exact distance (m) between the shapes of links `i` and `j` at `link_poses` (parry;
-    /// `<= 0` when they touch or overlap), allowed pair or not; `+∞` if either link has no
-    /// pose or no shapes.
-    pub fn pair_distance(&self, link_poses: &[Isometry3<f64>], i: usize, j: usize) -> f64 {
-        match (link_poses.get(i), link_poses.get(j)) {
-            (Some(pi), Some(pj)) if i < self.shapes.len() && j < self.shapes.len() => {
-                let (a, b) = (self.place_link(i, pi), self.place_link(j, pj));
-                min_distance(&a, &b, f64::INFINITY)
-            }
-            _ => f64::INFINITY,
-        }
-    }
-
-    /// The exact distance (m) from the shapes of link `l` at `link_poses` to the scene's
-    /// shapes (as [`RobotCollision::scene_collision`] takes the scene and `exempt`; a base
-    /// link ignores the floor), not reduced by any margin; `+∞` without shapes or pose.
-    pub fn link_scene_distance(
-        &self,
-        link_poses: &[Isometry3<f64>],
-        l: usize,
-        model: &SceneModel,
-        data: &SceneData,
-        exempt: Exempt<'_>,
-    ) -> f64 {
-        let (ignore, grasped): (&[PartId], &[PartId]) = match exempt {
-            Exempt::Nothing => (&[], &[]),
-            Exempt::Grasp(parts) => (&[], parts),
-            Exempt::Parts(parts) => (parts, &[]),
-        };
-        let (Some(pose), Some(shapes)) = (link_poses.get(l), self.shapes.get(l)) else {
-            return f64::INFINITY;
-        };
-        let identity = Isometry3::identity();
-        let base = model.geometry.base.iter().map(|s| (s, identity, None));
-        let parts = (model
-            .geometry
-            .parts
-            .iter()
-            .zip(data.world_from_parts())
-            .enumerate())
-        .filter(|(p, _)| !ignore.contains(&PartId(*p)))
-        .flat_map(|(p, (shapes, pose))| shapes.iter().map(move |s| (s, *pose, Some(PartId(p)))));
-        let scene: Vec<_> = base.chain(parts).collect();
-        let base_link = self.base_links.contains(&l);
-        let mut best = f64::INFINITY;
-        for (k, shape) in shapes.iter().enumerate() {
-            let placed = Placed::new(shape, pose);
-            let contact = self.contact[l].get(k).copied().unwrap_or(false);
-            for (other, other_pose, part) in &scene {
-                let grasp = part.is_some_and(|p| grasped.contains(&p));
-                if contact && grasp || base_link && other.world_box(other_pose).max.z <= GROUND_TOP
-                {
-                    continue;
-                }
-                let other = Placed::new(other, other_pose);
-                if placed.sphere_gap(&other) < best {
-                    best = best.min(placed.distance(&other));
-                }
-            }
-        }
-        best
     }
 
     /// The first robot link (lowest index) within `margin` (m, clearance required) of the

@@ -1,0 +1,465 @@
+//! The fast exact validity check of arm configurations at a fixed base pose, and the discrete
+//! check of a straight arm motion built on it ([`ArmCheck`]).
+//!
+//! **Answer.** [`ArmCheck::is_valid`] gives the answer of the exact parry check,
+//! `self_collision(poses).is_none() && scene_collision(poses, ..).is_none()` of
+//! [`RobotCollision`] (same poses, same pairs, same exemptions, same margin): the sphere model
+//! is only the broad phase. A link whose spheres clear every obstacle cannot reach the scene,
+//! and a checked pair whose spheres are apart cannot touch (the spheres cover the exact shapes,
+//! see the module [`super`]); every other link and pair is decided by parry.
+//!
+//! **Along a motion** ([`ArmCheck::check_motion`]) a pair of links whose spheres meet, and a
+//! link whose spheres reach an obstacle, are decided by parry's distance once and then
+//! carried: at a later state of the same straight motion the pair (the link and that
+//! obstacle) is apart as long as that distance, less the most they can have closed in since
+//! (a bound from the joint displacements and the links' lever arms, see `levers`), stays
+//! 1 µm above zero (above the margin). That proves the exact geometry apart, so each state's
+//! answer is still the exact one (anything within 1 µm of the threshold is re-evaluated).
+//!
+//! **Cost per configuration.** Forward kinematics into scratch buffers (no allocation once
+//! they have grown), the spheres placed, then per link one test of a ball enclosing its
+//! spheres against every obstacle (most links stop here) and only where that ball reaches an
+//! obstacle the link's spheres; per checked pair one test of the two links' balls before
+//! their spheres. Parry runs only for the links and pairs whose spheres meet something.
+
+use std::cell::RefCell;
+use std::collections::VecDeque;
+
+use nalgebra::{Isometry3, Point3};
+
+use super::check::SPHERE_SLACK;
+use super::{EdgeScene, RobotSpheres, SphereData, SphereObstacles};
+use crate::kinematics::robot::collision::PlacedScene;
+use crate::kinematics::robot::{ArmJoint, ArmJointKind, RobotCollision, RobotError, RobotModel};
+
+/// The arm's validity against one scene state at a fixed base pose: the exact answer with the
+/// sphere model as broad phase (see the module's answer). Built once per scene state and base
+/// pose ([`ArmCheck::new`] places the scene and packs the obstacles); `Send + Sync`.
+///
+/// Scratch lives in an [`ArmCheckData`] the caller owns ([`ArmCheck::is_valid_with`]), or in
+/// one per thread ([`ArmCheck::is_valid`], for closures handed to a planner).
+pub struct ArmCheck<'a> {
+    robot: &'a RobotModel,
+    collision: &'a RobotCollision,
+    spheres: &'a RobotSpheres,
+    scene: PlacedScene<'a>,
+    obstacles: SphereObstacles,
+    margin: f64,
+    world_from_base: Isometry3<f64>,
+    world_from_root: Isometry3<f64>,
+    /// Per link, a ball (link frame) enclosing its spheres; `None` without spheres.
+    balls: Vec<Option<(Point3<f64>, f64)>>,
+    /// Per checked pair `(i, k)` (order of [`RobotSpheres::checked_pairs`]), the joints that
+    /// move link `k` relative to link `i` with their lever arms (see [`levers`]).
+    levers: Vec<Vec<(usize, f64)>>,
+    /// Per link `l`, the joints that move it in the world with their lever arms (the levers
+    /// of the pair `(0, l)`: the base does not move).
+    link_levers: Vec<Vec<(usize, f64)>>,
+}
+
+impl std::fmt::Debug for ArmCheck<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ArmCheck")
+            .field("obstacles", &self.obstacles.len())
+            .field("margin", &self.margin)
+            .field("world_from_base", &self.world_from_base)
+            .finish_non_exhaustive()
+    }
+}
+
+/// Scratch of [`ArmCheck`]: link poses, placed spheres, the links and pairs left for parry,
+/// one interpolated state and the bisection queue of a motion. Reused across calls.
+#[derive(Debug, Clone, Default)]
+pub struct ArmCheckData {
+    state: StateScratch,
+    /// The interpolated configuration of a motion check.
+    q: Vec<f64>,
+    /// Index intervals of a motion check still to bisect.
+    queue: VecDeque<(usize, usize)>,
+}
+
+#[derive(Debug, Clone, Default)]
+struct StateScratch {
+    poses: Vec<Isometry3<f64>>,
+    spheres: SphereData,
+    /// Links whose spheres reach an obstacle.
+    links: Vec<usize>,
+    /// Per link of `links`, per obstacle: whether a sphere of the link reaches it.
+    reached: Vec<Vec<bool>>,
+    /// Checked pairs whose spheres meet (indices into the checked pairs).
+    pairs: Vec<usize>,
+    /// Along the motion being checked: per checked pair, how fast (m per unit of the motion's
+    /// parameter) the distance of its links can change, and the last distance bound found
+    /// with the parameter it was found at.
+    speed: Vec<f64>,
+    bound: Vec<Option<(f64, f64)>>,
+    /// The same for a link against one obstacle: per link, how fast it can approach the
+    /// scene, and per link and obstacle (link-major) the last distance bound.
+    link_speed: Vec<f64>,
+    scene_bound: Vec<Option<(f64, f64)>>,
+    /// The last configuration found valid: asked again (a planner checks a motion's end and
+    /// then the motion), it is not recomputed.
+    last_valid: Vec<f64>,
+}
+
+/// The least certified distance (m) of a pair between parry's evaluations along a motion: it
+/// absorbs the rounding of parry's distance and of the bound's arithmetic.
+const CERTIFIED_GAP: f64 = 1e-6;
+
+/// Distance (m) up to which a pair's distance is computed exactly along a motion; beyond it
+/// the bound is this value (shape pairs farther apart are not computed).
+const BOUND_CUTOFF: f64 = 0.05;
+
+thread_local! {
+    /// Per-thread scratch of [`ArmCheck::is_valid`] and [`ArmCheck::check_motion`].
+    static SCRATCH: RefCell<ArmCheckData> = RefCell::new(ArmCheckData::default());
+}
+
+impl<'a> ArmCheck<'a> {
+    /// The check for `robot` with base pose `base` (`[x, y, yaw]`), `spheres` built from
+    /// `robot` and `collision`, against `scene` (its exemption and margin as
+    /// [`RobotCollision::scene_collision`] takes them).
+    ///
+    /// # Errors
+    /// [`RobotError::DimensionMismatch`] when `spheres` or `collision` have another number of
+    /// links than `robot`, [`RobotError::NonFiniteValue`] for a non-finite base pose.
+    pub fn new(
+        robot: &'a RobotModel,
+        collision: &'a RobotCollision,
+        spheres: &'a RobotSpheres,
+        scene: EdgeScene<'a>,
+        base: [f64; 3],
+    ) -> Result<Self, RobotError> {
+        let links = robot.links().len();
+        if spheres.links().len() != links {
+            return Err(RobotError::DimensionMismatch {
+                what: "sphere model links",
+                expected: links,
+                got: spheres.links().len(),
+            });
+        }
+        if let Some(index) = base.iter().position(|v| !v.is_finite()) {
+            return Err(RobotError::NonFiniteValue {
+                what: "base",
+                index,
+            });
+        }
+        let world_from_base = RobotModel::world_from_base(base);
+        let balls = spheres
+            .links()
+            .iter()
+            .map(|l| {
+                if l.is_empty() {
+                    return None;
+                }
+                let sum = l
+                    .iter()
+                    .fold(nalgebra::Vector3::zeros(), |s, b| s + b.center.coords);
+                let center = Point3::from(sum / l.len() as f64);
+                let radius = l
+                    .iter()
+                    .map(|b| (b.center - center).norm() + b.radius)
+                    .fold(0.0, f64::max);
+                Some((center, radius))
+            })
+            .collect();
+        let placed = PlacedScene::new(scene.model, scene.data, scene.exempt);
+        let obstacles = SphereObstacles::new(scene.model, scene.data, scene.exempt, scene.margin);
+        // Both take the scene's shapes in the same order: obstacle k is placed shape k.
+        debug_assert_eq!(placed.len(), obstacles.len());
+        Ok(ArmCheck {
+            robot,
+            collision,
+            spheres,
+            scene: placed,
+            obstacles,
+            margin: scene.margin,
+            world_from_base,
+            world_from_root: world_from_base * robot.base_from_arm_root(),
+            balls,
+            levers: spheres
+                .checked_pairs()
+                .iter()
+                .map(|&(i, k)| levers(robot, spheres, i, k))
+                .collect(),
+            link_levers: (0..links).map(|l| levers(robot, spheres, 0, l)).collect(),
+        })
+    }
+
+    /// Whether arm configuration `q` is free (see the module's answer), with per-thread
+    /// scratch. `false` for a configuration of the wrong length or with non-finite values.
+    pub fn is_valid(&self, q: &[f64]) -> bool {
+        SCRATCH.with(|cell| match cell.try_borrow_mut() {
+            Ok(mut data) => self.is_valid_with(q, &mut data),
+            // Re-entered from inside a check (not done here): fresh scratch.
+            Err(_) => self.is_valid_with(q, &mut ArmCheckData::default()),
+        })
+    }
+
+    /// [`ArmCheck::is_valid`] with caller-owned scratch.
+    pub fn is_valid_with(&self, q: &[f64], data: &mut ArmCheckData) -> bool {
+        self.state_valid(q, None, &mut data.state)
+    }
+
+    /// Whether the straight motion from `a` to `b` is free at the states a discrete check
+    /// visits, with per-thread scratch: `b` and the states `a + (j / n)·(b − a)`,
+    /// `0 < j < n`, `n = ⌈‖b − a‖ / resolution⌉` (consecutive states at most `resolution`
+    /// apart in the Euclidean norm of the joint values), visited in bisection order (the
+    /// middle first, as OMPL's discrete motion validator) so that a blocked motion is
+    /// rejected early. `a` itself is taken as valid, as a planner's motion check takes it.
+    /// `false` for configurations of different or wrong lengths, non-finite values, or a
+    /// `resolution` that is not positive and finite. Like any discrete check it can miss an
+    /// obstacle thinner than the motion of the robot between two states.
+    pub fn check_motion(&self, a: &[f64], b: &[f64], resolution: f64) -> bool {
+        SCRATCH.with(|cell| match cell.try_borrow_mut() {
+            Ok(mut data) => self.check_motion_with(a, b, resolution, &mut data),
+            Err(_) => self.check_motion_with(a, b, resolution, &mut ArmCheckData::default()),
+        })
+    }
+
+    /// [`ArmCheck::check_motion`] with caller-owned scratch.
+    pub fn check_motion_with(
+        &self,
+        a: &[f64],
+        b: &[f64],
+        resolution: f64,
+        data: &mut ArmCheckData,
+    ) -> bool {
+        if a.len() != self.robot.dof()
+            || b.len() != a.len()
+            || !(resolution.is_finite() && resolution > 0.0)
+            || !a.iter().all(|v| v.is_finite())
+        {
+            return false;
+        }
+        let s = &mut data.state;
+        s.speed.clear();
+        s.speed.extend(self.levers.iter().map(|levers| {
+            levers
+                .iter()
+                .map(|&(j, lever)| (b[j] - a[j]).abs() * lever)
+                .sum::<f64>()
+        }));
+        s.bound.clear();
+        s.bound.resize(self.levers.len(), None);
+        s.link_speed.clear();
+        s.link_speed.extend(self.link_levers.iter().map(|levers| {
+            levers
+                .iter()
+                .map(|&(j, lever)| (b[j] - a[j]).abs() * lever)
+                .sum::<f64>()
+        }));
+        s.scene_bound.clear();
+        s.scene_bound
+            .resize(self.link_levers.len() * self.obstacles.len(), None);
+        if !self.state_valid(b, Some(1.0), &mut data.state) {
+            return false;
+        }
+        let length = a
+            .iter()
+            .zip(b)
+            .map(|(x, y)| (y - x) * (y - x))
+            .sum::<f64>()
+            .sqrt();
+        // `as` saturates for absurdly fine resolutions.
+        let n = ((length / resolution).ceil() as usize).max(1);
+        data.queue.clear();
+        if n > 1 {
+            data.queue.push_back((1, n - 1));
+        }
+        while let Some((lo, hi)) = data.queue.pop_front() {
+            let mid = lo + (hi - lo) / 2;
+            let t = mid as f64 / n as f64;
+            data.q.clear();
+            data.q.extend(a.iter().zip(b).map(|(x, y)| x + (y - x) * t));
+            if !self.state_valid(&data.q, Some(t), &mut data.state) {
+                return false;
+            }
+            if lo < mid {
+                data.queue.push_back((lo, mid - 1));
+            }
+            if mid < hi {
+                data.queue.push_back((mid + 1, hi));
+            }
+        }
+        true
+    }
+
+    /// The state check: forward kinematics, the sphere broad phase, parry where it is needed.
+    /// Along a motion (`at`: the state's parameter in it, with `s.speed` and `s.bound` set up
+    /// for the motion), a pair whose last distance bound, less the most its links can have
+    /// closed in since, is still positive is free without parry (see [`ArmCheck::pair_free`]).
+    fn state_valid(&self, q: &[f64], at: Option<f64>, s: &mut StateScratch) -> bool {
+        if q.len() != self.robot.dof() || !q.iter().all(|v| v.is_finite()) {
+            return false;
+        }
+        if s.last_valid.as_slice() == q {
+            return true;
+        }
+        self.forward(q, &mut s.poses);
+        self.spheres.place(&s.poses, &mut s.spheres);
+        self.broad_phase(s);
+        let scene_free = (0..s.links.len()).all(|m| self.link_free(m, at, s));
+        let free = scene_free && (0..s.pairs.len()).all(|k| self.pair_free(s.pairs[k], at, s));
+        if free {
+            s.last_valid.clear();
+            s.last_valid.extend_from_slice(q);
+        }
+        free
+    }
+
+    /// Whether checked pair `p` (spheres meeting) is apart at the poses in `s`. Outside a
+    /// motion: parry's touch test. Along a motion, at parameter `t`: the pair's last bound
+    /// `(t0, d0)` (a lower bound on the links' distance at `t0`) certifies it apart when
+    /// `d0 − speed·|t − t0| > CERTIFIED_GAP`, since no point of link `k` moves relative to
+    /// link `i` faster than `speed` (m per unit of the parameter, [`levers`]); otherwise
+    /// parry's distance (exact below [`BOUND_CUTOFF`]) decides and becomes the new bound.
+    fn pair_free(&self, p: usize, at: Option<f64>, s: &mut StateScratch) -> bool {
+        let (i, k) = self.spheres.checked_pairs()[p];
+        let Some(t) = at else {
+            return !self.collision.pair_touches(&s.poses, i, k);
+        };
+        if let Some((t0, d0)) = s.bound[p] {
+            if d0 - s.speed[p] * (t - t0).abs() > CERTIFIED_GAP {
+                return true;
+            }
+        }
+        let d = self
+            .collision
+            .pair_distance_below(&s.poses, i, k, BOUND_CUTOFF);
+        s.bound[p] = Some((t, d));
+        d > 0.0
+    }
+
+    /// Whether link `s.links[m]` (spheres reaching the obstacles flagged in `s.reached[m]`)
+    /// keeps the margin from those obstacles at the poses in `s`: parry outside a motion;
+    /// along one, per obstacle, the certificate of [`ArmCheck::pair_free`] with the link's
+    /// speed in the world (the obstacles do not move) and the margin added.
+    fn link_free(&self, m: usize, at: Option<f64>, s: &mut StateScratch) -> bool {
+        let l = s.links[m];
+        let Some(t) = at else {
+            let among = &s.reached[m];
+            return !self
+                .collision
+                .link_meets_scene(&s.poses, l, &self.scene, among, self.margin);
+        };
+        let margin = self.margin.max(0.0);
+        for o in 0..s.reached[m].len() {
+            if !s.reached[m][o] {
+                continue;
+            }
+            let slot = l * self.obstacles.len() + o;
+            if let Some((t0, d0)) = s.scene_bound[slot] {
+                if d0 - s.link_speed[l] * (t - t0).abs() - margin > CERTIFIED_GAP {
+                    continue;
+                }
+            }
+            let d = self.collision.link_shape_distance_below(
+                &s.poses,
+                l,
+                &self.scene,
+                o,
+                margin + BOUND_CUTOFF,
+            );
+            s.scene_bound[slot] = Some((t, d));
+            if d <= margin {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// `world_from_link` for every link, as [`RobotModel::link_poses`] computes it (the same
+    /// products in the same order, so the same values), into `poses`.
+    fn forward(&self, q: &[f64], poses: &mut Vec<Isometry3<f64>>) {
+        poses.clear();
+        poses.push(self.world_from_base);
+        let mut pose = self.world_from_root;
+        for (joint, &v) in self.robot.arm_joints().iter().zip(q) {
+            pose *= joint.parent_from_child(v);
+            poses.push(pose);
+        }
+    }
+
+    /// The links whose spheres reach an obstacle and the checked pairs whose spheres meet,
+    /// each first tested with the links' enclosing balls.
+    fn broad_phase(&self, s: &mut StateScratch) {
+        s.links.clear();
+        s.pairs.clear();
+        let ball = |l: usize| {
+            let (c, r) = self.balls.get(l).copied().flatten()?;
+            Some((s.poses[l] * c, r))
+        };
+        for l in 0..s.poses.len().min(self.balls.len()) {
+            let Some((c, r)) = ball(l) else { continue };
+            let center = [c.x as f32, c.y as f32, c.z as f32];
+            if !self.obstacles.ball_hits(center, r as f32 + SPHERE_SLACK) {
+                continue;
+            }
+            let k = s.links.len();
+            if s.reached.len() <= k {
+                s.reached.push(Vec::new());
+            }
+            s.reached[k].clear();
+            if self
+                .obstacles
+                .link_hit_obstacles(&s.spheres, l, &mut s.reached[k])
+            {
+                s.links.push(l);
+            }
+        }
+        for (p, &(i, j)) in self.spheres.checked_pairs().iter().enumerate() {
+            let (Some((ci, ri)), Some((cj, rj))) = (ball(i), ball(j)) else {
+                continue;
+            };
+            if (ci - cj).norm() <= ri + rj + f64::from(SPHERE_SLACK)
+                && self.spheres.pair_meets(&s.spheres, i, j)
+            {
+                s.pairs.push(p);
+            }
+        }
+    }
+}
+
+/// For links `i < k`: the arm joints `j` with `i <= j < k` (those that move link `k` but not
+/// link `i`; joint `j` moves links `j + 1 ..`) with lever arm `λ_j`, so that along a straight
+/// motion with joint displacements `Δq`, no point of link `k` moves relative to link `i` by
+/// more than `Σ_j |Δq_j|·λ_j` per unit of the motion's parameter. Revolute `j`: `λ_j` bounds
+/// the distance from the joint's axis to any point of link `k`: the offsets from link
+/// `j + 1`'s origin (on the axis) down the chain to link `k`'s origin (a prismatic joint in
+/// between adding its largest travel), plus the largest `|c| + r` of link `k`'s spheres
+/// (which contain its shapes). Prismatic `j`: `λ_j = 1`. The relative velocity is
+/// `Σ_j q̇_j·(ω_j × (p − o_j))` (revolute) `+ Σ_j q̇_j·v_j` (prismatic), whose norm is at most
+/// that sum.
+fn levers(robot: &RobotModel, spheres: &RobotSpheres, i: usize, k: usize) -> Vec<(usize, f64)> {
+    let joints = robot.arm_joints();
+    let step = |j: &ArmJoint| {
+        let travel = match j.kind {
+            ArmJointKind::Prismatic => j.lower.abs().max(j.upper.abs()),
+            _ => 0.0,
+        };
+        j.parent_from_joint.translation.vector.norm() + travel
+    };
+    let reach = spheres.links().get(k).map_or(0.0, |l| {
+        l.iter()
+            .map(|s| s.center.coords.norm() + s.radius)
+            .fold(0.0, f64::max)
+    });
+    (i..k.min(joints.len()))
+        .map(|j| {
+            let lever = match joints[j].kind {
+                ArmJointKind::Prismatic => 1.0,
+                _ => {
+                    joints
+                        .get(j + 1..k)
+                        .unwrap_or(&[])
+                        .iter()
+                        .map(step)
+                        .sum::<f64>()
+                        + reach
+                }
+            };
+            (j, lever)
+        })
+        .collect()
+}
