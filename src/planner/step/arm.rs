@@ -4,8 +4,8 @@
 use super::StepReason;
 use super::refine::{ArmPaths, Placed, StepRefinement};
 use super::{Check, Failed, StepPath, check_manipulation, path_or_reason};
-use crate::kinematics::robot::{ArmEdgeCheck, EdgeScene, Exempt};
-use crate::motion::paths::{MotionCheck, first_invalid, plan_arm_with_motion};
+use crate::kinematics::robot::{ArmCheck as FastArmCheck, ArmEdgeCheck, EdgeScene, Exempt};
+use crate::motion::paths::{MotionCheck, first_invalid, plan_arm_checked, plan_arm_with_motion};
 use crate::planner::PlannerError;
 use crate::planner::arm_check::ArmCheck;
 use crate::scene::{SceneData, forward_kinematics};
@@ -65,16 +65,46 @@ impl StepRefinement<'_, '_> {
             _ => None,
         };
         let certified = |a: &[f64], b: &[f64]| edges.as_ref().is_some_and(|e| e.check(a, b));
-        let outcome = plan_arm_with_motion(
-            from,
-            to,
-            lower.as_slice(),
-            upper.as_slice(),
-            &|q: &[f64]| arm.valid(q),
-            edges.is_some().then_some(&certified as &MotionCheck<'_>),
-            &ctx.settings.paths,
-            ctx.termination,
-        )?;
+        // With the sphere model and discrete edges, the search checks states and whole
+        // motions with the kinematics layer's fast exact check (the exact answer at every
+        // state, the states OMPL's discrete check would visit, one call per motion); the
+        // dense re-check below stays with this step's own check.
+        let fast = match (ctx.spheres, &edges) {
+            (Some(spheres), None) => Some(FastArmCheck::new(
+                ctx.robot,
+                ctx.collision,
+                spheres,
+                EdgeScene {
+                    model: ctx.model,
+                    data: arm.data,
+                    exempt: arm.exempt,
+                    margin: arm.margin,
+                },
+                arm.base,
+            )?),
+            _ => None,
+        };
+        let outcome = match &fast {
+            Some(check) => plan_arm_checked(
+                from,
+                to,
+                lower.as_slice(),
+                upper.as_slice(),
+                check,
+                &ctx.settings.paths,
+                ctx.termination,
+            )?,
+            None => plan_arm_with_motion(
+                from,
+                to,
+                lower.as_slice(),
+                upper.as_slice(),
+                &|q: &[f64]| arm.valid(q),
+                edges.is_some().then_some(&certified as &MotionCheck<'_>),
+                &ctx.settings.paths,
+                ctx.termination,
+            )?,
+        };
         let path = match path_or_reason(outcome, which) {
             Ok(p) => p,
             Err(reason) => {
