@@ -23,9 +23,9 @@ use kinscene::Termination;
 use kinscene::kinematics::ik::{IkSettings, IkSolver};
 use kinscene::kinematics::robot::{RobotCollision, RobotModel};
 use kinscene::motion::placement::{
-    GraspRotation, ManipulationSettings, PlacementData, PlacementMethod, PlacementObjective, PlacementProblem,
-    PlacementSettings, SamplingSettings, WholeBodyOutcome, WholeBodySettings, WholeBodyStart,
-    place_and_plan, plan_whole_body_from_starts,
+    GraspRotation, ManipulationSettings, PlacementData, PlacementMethod, PlacementObjective,
+    PlacementProblem, PlacementSettings, SamplingSettings, WholeBodyOutcome, WholeBodySettings,
+    WholeBodyStart, place_and_plan, plan_whole_body_from_starts,
 };
 use kinscene::scene::urdf::{self, ImportOptions};
 
@@ -67,7 +67,9 @@ fn main() -> ExitCode {
             .map(|c| (c[0].clone(), c[1].clone(), c[2].parse().unwrap_or(f64::NAN)))
             .collect()
     } else {
-        eprintln!("usage: whole_body [--starts N] [--arm-seeds M] [--cone RAD] [JOINT HANDLE TO]...");
+        eprintln!(
+            "usage: whole_body [--starts N] [--arm-seeds M] [--cone RAD] [JOINT HANDLE TO]..."
+        );
         return ExitCode::from(2);
     };
     match run(&doors, &whole_body, cone) {
@@ -163,7 +165,12 @@ fn run(
         )?;
         let seconds = started.elapsed().as_secs_f64();
         for a in &attempts {
-            println!("{joint}:   {} waypoints reached; {}", a.reached(), a.summary());
+            println!(
+                "{joint}:   start {}: {} waypoints reached; {}",
+                a.start,
+                a.reached(),
+                a.summary()
+            );
         }
         match attempts.last().map(|a| (a, &a.outcome)) {
             Some((a, WholeBodyOutcome::Tracked(plan))) => println!(

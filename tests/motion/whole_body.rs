@@ -432,7 +432,10 @@ fn from_the_ranked_samples_the_first_start_that_tracks_is_kept_deterministically
     let (last, earlier) = first.split_last().expect("at least one attempt");
     assert!(earlier.iter().all(|a| a.outcome.plan().is_none()));
     let WholeBodyOutcome::Tracked(plan) = &last.outcome else {
-        panic!("{:#?}", first.iter().map(|a| a.summary()).collect::<Vec<_>>());
+        panic!(
+            "{:#?}",
+            first.iter().map(|a| a.summary()).collect::<Vec<_>>()
+        );
     };
     assert_eq!(last.reached(), placement.motion.len());
     assert_eq!(last.base, starts[last.start].base);

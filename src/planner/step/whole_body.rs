@@ -150,7 +150,11 @@ impl Segments<'_, '_> {
 /// The starts of a step's whole-body plan: the base poses and first configurations of the
 /// longest-prefix placement's ranked samples, then of the placement `whole` (unless at one
 /// of those poses), those that reach the first waypoint, at most `count`.
-fn starts(prefix: &PlacementOutcome, whole: &PlacementOutcome, count: usize) -> Vec<WholeBodyStart> {
+fn starts(
+    prefix: &PlacementOutcome,
+    whole: &PlacementOutcome,
+    count: usize,
+) -> Vec<WholeBodyStart> {
     let mut out: Vec<WholeBodyStart> = Vec::with_capacity(count);
     let ranked = prefix
         .ranked

@@ -48,12 +48,12 @@ impl WholeBodyAttempt {
         }
     }
 
-    /// One line: the start, the arm seed and what happened.
+    /// One line: the start's base pose, the arm seed and what happened.
     pub fn summary(&self) -> String {
         let b = self.base;
         let from = format!(
-            "start {} ({:.3}, {:.3}, {:.3}) arm seed {}",
-            self.start, b[0], b[1], b[2], self.arm_seed
+            "from ({:.3}, {:.3}, {:.3}) arm seed {}",
+            b[0], b[1], b[2], self.arm_seed
         );
         match &self.outcome {
             WholeBodyOutcome::Tracked(plan) => format!(
@@ -74,11 +74,7 @@ fn arm_path(arm: &[DVector<f64>]) -> f64 {
 /// The arm seeds tried from every start after its own: `n − 1` configurations drawn
 /// uniformly within the arm's joint limits (`(−π, π]` for a continuous joint) from a
 /// ChaCha8 generator seeded with `seed`, the same for every start.
-fn drawn_seeds(
-    problem: PlacementProblem<'_>,
-    n: usize,
-    seed: u64,
-) -> Vec<DVector<f64>> {
+fn drawn_seeds(problem: PlacementProblem<'_>, n: usize, seed: u64) -> Vec<DVector<f64>> {
     let (lower, upper) = problem.robot.arm_bounds();
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     (1..n)
