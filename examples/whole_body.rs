@@ -1,11 +1,18 @@
 //! Whole-body manipulation at the motion layer on the kitchen: for each door given (default:
-//! the two corner doors), the sampled placement of the Gen3 from the kitchen's start pose, and,
-//! when that one base pose does not reach every waypoint, the whole-body plan from its base
-//! pose ([`plan_whole_body`]). Prints what each reaches and why not.
+//! the two corner doors to 1.4 rad), the sampled longest-prefix placement of the Gen3 from the
+//! kitchen's start pose, and, when that one base pose does not reach every waypoint, whole-body
+//! plans from its best samples and several arm seeds each
+//! ([`plan_whole_body_from_starts`], [`WholeBodySettings::starts`] and
+//! [`WholeBodySettings::arm_seeds`]). Prints, per attempt, the start used, the waypoints
+//! reached and why not, and for the tracked one the base travel.
 //!
 //! ```text
-//! cargo run --example whole_body -- [JOINT HANDLE TO]...
+//! cargo run --example whole_body -- [--starts N] [--arm-seeds M] [--cone RAD] [JOINT HANDLE TO]...
 //! ```
+//!
+//! `--starts` and `--arm-seeds` override [`WholeBodySettings::starts`] and
+//! [`WholeBodySettings::arm_seeds`] (defaults 4 and 3), `--cone` the manipulation's
+//! `approach_cone` (default 0).
 
 use std::f64::consts::FRAC_PI_2;
 use std::path::Path;
@@ -16,8 +23,9 @@ use kinscene::Termination;
 use kinscene::kinematics::ik::{IkSettings, IkSolver};
 use kinscene::kinematics::robot::{RobotCollision, RobotModel};
 use kinscene::motion::placement::{
-    GraspRotation, PlacementData, PlacementMethod, PlacementProblem, PlacementSettings,
-    WholeBodyOutcome, WholeBodySettings, place_and_plan, plan_whole_body,
+    GraspRotation, ManipulationSettings, PlacementData, PlacementMethod, PlacementObjective,
+    PlacementProblem, PlacementSettings, SamplingSettings, WholeBodyOutcome, WholeBodySettings,
+    WholeBodyStart, place_and_plan, plan_whole_body_from_starts,
 };
 use kinscene::scene::urdf::{self, ImportOptions};
 
@@ -25,18 +33,33 @@ use kinscene::scene::urdf::{self, ImportOptions};
 const START: [f64; 3] = [1.0, 0.0, FRAC_PI_2];
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let mut whole_body = WholeBodySettings::default();
+    let mut cone = 0.0;
+    while args.len() >= 2 && args[0].starts_with("--") {
+        let (count, angle) = (args[1].parse().ok(), args[1].parse().ok());
+        match (args[0].as_str(), count, angle) {
+            ("--starts", Some(n), _) => whole_body.starts = n,
+            ("--arm-seeds", Some(n), _) => whole_body.arm_seeds = n,
+            ("--cone", _, Some(a)) => cone = a,
+            _ => {
+                eprintln!("whole_body: bad option {} {}", args[0], args[1]);
+                return ExitCode::from(2);
+            }
+        }
+        args.drain(..2);
+    }
     let doors: Vec<(String, String, f64)> = if args.is_empty() {
         vec![
             (
                 "corner_door_back_hinge".into(),
                 "corner_door_back_handle".into(),
-                FRAC_PI_2,
+                1.4,
             ),
             (
                 "corner_door_side_hinge".into(),
                 "corner_door_side_handle".into(),
-                FRAC_PI_2,
+                1.4,
             ),
         ]
     } else if args.len() % 3 == 0 {
@@ -44,10 +67,12 @@ fn main() -> ExitCode {
             .map(|c| (c[0].clone(), c[1].clone(), c[2].parse().unwrap_or(f64::NAN)))
             .collect()
     } else {
-        eprintln!("usage: whole_body [JOINT HANDLE TO]...");
+        eprintln!(
+            "usage: whole_body [--starts N] [--arm-seeds M] [--cone RAD] [JOINT HANDLE TO]..."
+        );
         return ExitCode::from(2);
     };
-    match run(&doors) {
+    match run(&doors, &whole_body, cone) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("whole_body: {e}");
@@ -56,7 +81,11 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(doors: &[(String, String, f64)]) -> Result<(), Box<dyn std::error::Error>> {
+fn run(
+    doors: &[(String, String, f64)],
+    whole_body: &WholeBodySettings,
+    cone: f64,
+) -> Result<(), Box<dyn std::error::Error>> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/kitchen.urdf");
     let model = urdf::read_file(path, &ImportOptions::default())?;
     let robot = RobotModel::kinova_gen3_mobile();
@@ -73,6 +102,15 @@ fn run(doors: &[(String, String, f64)]) -> Result<(), Box<dyn std::error::Error>
     let settings = PlacementSettings {
         method: PlacementMethod::Sampled,
         stow: Some(robot.neutral()),
+        manipulation: ManipulationSettings {
+            approach_cone: cone,
+            ..ManipulationSettings::default()
+        },
+        sampling: SamplingSettings {
+            objective: PlacementObjective::LongestPrefix,
+            keep: whole_body.starts,
+            ..SamplingSettings::default()
+        },
         ..PlacementSettings::default()
     };
     for (joint, handle, to) in doors {
@@ -103,24 +141,45 @@ fn run(doors: &[(String, String, f64)]) -> Result<(), Box<dyn std::error::Error>
                 .map(|r| format!(": {r}"))
                 .unwrap_or_default()
         );
-        if placement.is_complete() || !placement.reached[0] {
+        if placement.is_complete() {
             continue;
         }
+        let starts: Vec<WholeBodyStart> = placement
+            .ranked
+            .iter()
+            .filter(|p| p.reached_prefix() > 0)
+            .map(|p| WholeBodyStart {
+                base: p.base,
+                seed: p.arm[0].clone(),
+            })
+            .collect();
         let started = Instant::now();
-        let outcome = plan_whole_body(
+        let attempts = plan_whole_body_from_starts(
             problem,
             &placement.motion,
-            placement.base,
-            &placement.arm[0],
+            &starts,
             GraspRotation::Free,
             &settings.manipulation,
-            &WholeBodySettings::default(),
+            whole_body,
+            &Termination::none(),
         )?;
         let seconds = started.elapsed().as_secs_f64();
-        match &outcome {
-            WholeBodyOutcome::Tracked(plan) => println!(
-                "{joint}: whole-body tracks every waypoint ({seconds:.3} s): the base moves at \
-                 {} of {} waypoints, {:.3} m, ends at {:?}",
+        for a in &attempts {
+            println!(
+                "{joint}:   start {}: {} waypoints reached; {}",
+                a.start,
+                a.reached(),
+                a.summary()
+            );
+        }
+        match attempts.last().map(|a| (a, &a.outcome)) {
+            Some((a, WholeBodyOutcome::Tracked(plan))) => println!(
+                "{joint}: whole-body tracks every waypoint from start {} arm seed {} \
+                 ({} attempts, {seconds:.1} s): the base moves at {} of {} waypoints, {:.3} m, \
+                 ends at {:?}",
+                a.start,
+                a.arm_seed,
+                attempts.len(),
                 plan.base_moves(),
                 plan.bases.len(),
                 plan.base_travel(),
@@ -128,9 +187,12 @@ fn run(doors: &[(String, String, f64)]) -> Result<(), Box<dyn std::error::Error>
                     .last()
                     .map(|b| b.map(|v| (v * 1000.0).round() / 1000.0))
             ),
-            failed => println!(
-                "{joint}: {} ({seconds:.3} s)",
-                failed.reason().unwrap_or_default()
+            _ => println!(
+                "{joint}: no whole-body plan from {} starts ({} attempts, {seconds:.1} s); \
+                 furthest waypoint {}",
+                starts.len(),
+                attempts.len(),
+                attempts.iter().map(|a| a.reached()).max().unwrap_or(0)
             ),
         }
     }

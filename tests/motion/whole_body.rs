@@ -21,9 +21,9 @@ use kinscene::kinematics::ik::{IkSettings, IkSolver};
 use kinscene::kinematics::pinocchio as pin;
 use kinscene::kinematics::robot::{Exempt, RobotCollision, RobotConfig, RobotModel};
 use kinscene::motion::placement::{
-    GraspRotation, PlacementData, PlacementError, PlacementMethod, PlacementProblem,
-    PlacementSettings, WholeBodyOutcome, WholeBodyPlan, WholeBodySettings, place_and_plan,
-    plan_whole_body,
+    GraspRotation, PlacementData, PlacementError, PlacementMethod, PlacementObjective,
+    PlacementProblem, PlacementSettings, WholeBodyOutcome, WholeBodyPlan, WholeBodySettings,
+    WholeBodyStart, place_and_plan, plan_whole_body, plan_whole_body_from_starts,
 };
 use kinscene::scene::{SceneData, SceneModel, forward_kinematics, world_from_handle};
 use nalgebra::{DVector, Vector3};
@@ -336,6 +336,20 @@ fn whole_body_posture_settings_out_of_range_are_named_errors() {
                 ..WholeBodySettings::default()
             },
         ),
+        (
+            "starts",
+            WholeBodySettings {
+                starts: 0,
+                ..WholeBodySettings::default()
+            },
+        ),
+        (
+            "arm_seeds",
+            WholeBodySettings {
+                arm_seeds: 65,
+                ..WholeBodySettings::default()
+            },
+        ),
     ];
     for (field, settings) in bad {
         let result = plan_whole_body(
@@ -352,4 +366,80 @@ fn whole_body_posture_settings_out_of_range_are_named_errors() {
             "{field}: {result:?}"
         );
     }
+}
+
+#[test]
+fn from_the_ranked_samples_the_first_start_that_tracks_is_kept_deterministically() {
+    // The longest-prefix placement keeps its four best samples, best first (the outcome's
+    // own base pose first, reached prefixes not increasing); from them, with three arm seeds
+    // each, the whole-body plans run until one tracks the wide door: that one is the last
+    // attempt, every earlier one failed, and the independent re-check accepts it. The same
+    // inputs give the same attempts.
+    let mut s = setup(RobotModel::kinova_gen3_mobile());
+    s.settings.sampling.objective = PlacementObjective::LongestPrefix;
+    s.settings.sampling.keep = 4;
+    let problem = PlacementProblem {
+        robot: &s.robot,
+        collision: &s.collision,
+        ik: &s.ik,
+        model: &s.model,
+        state: &s.model.zero_state(),
+    };
+    let joint = s.model.joint_id("door_hinge").unwrap();
+    let handle = s.model.handle_id("door_handle").unwrap();
+    let placement = place_and_plan(
+        problem,
+        joint,
+        handle,
+        FRAC_PI_2,
+        START,
+        &s.settings,
+        &mut PlacementData::new(),
+        &Termination::none(),
+    )
+    .unwrap();
+    let ranked = &placement.ranked;
+    assert!(!ranked.is_empty() && ranked.len() <= 4, "{}", ranked.len());
+    assert_eq!(ranked[0].base, placement.base);
+    assert!(
+        ranked
+            .windows(2)
+            .all(|w| w[0].reached_prefix() >= w[1].reached_prefix())
+    );
+    let starts: Vec<WholeBodyStart> = ranked
+        .iter()
+        .filter(|p| p.reached_prefix() > 0)
+        .map(|p| WholeBodyStart {
+            base: p.base,
+            seed: p.arm[0].clone(),
+        })
+        .collect();
+    let settings = WholeBodySettings::default();
+    let attempts = || {
+        plan_whole_body_from_starts(
+            problem,
+            &placement.motion,
+            &starts,
+            GraspRotation::Free,
+            &s.settings.manipulation,
+            &settings,
+            &Termination::none(),
+        )
+        .unwrap()
+    };
+    let first = attempts();
+    assert_eq!(first, attempts());
+    let (last, earlier) = first.split_last().expect("at least one attempt");
+    assert!(earlier.iter().all(|a| a.outcome.plan().is_none()));
+    let WholeBodyOutcome::Tracked(plan) = &last.outcome else {
+        panic!(
+            "{:#?}",
+            first.iter().map(|a| a.summary()).collect::<Vec<_>>()
+        );
+    };
+    assert_eq!(last.reached(), placement.motion.len());
+    assert_eq!(last.base, starts[last.start].base);
+    eprintln!("from {} starts: {}", starts.len(), last.summary());
+    let problems = recheck(&s, plan);
+    assert!(problems.is_empty(), "{problems:#?}");
 }

@@ -96,7 +96,8 @@ pub use settings::{
     PlacementSettings, SamplingSettings,
 };
 pub use whole_body::{
-    WholeBodyFailure, WholeBodyOutcome, WholeBodyPlan, WholeBodySettings, plan_whole_body, sideways,
+    WholeBodyAttempt, WholeBodyFailure, WholeBodyOutcome, WholeBodyPlan, WholeBodySettings,
+    WholeBodyStart, plan_whole_body, plan_whole_body_from_starts, sideways,
 };
 
 use crate::control::Termination;
@@ -189,6 +190,10 @@ pub struct PlacementOutcome {
     pub elapsed: Duration,
     /// Timing and counters.
     pub stats: PlacementStats,
+    /// The best sampled plans, best first, at most [`SamplingSettings::keep`] (the first is
+    /// the sampled best, which `base` and `arm` are unless optimised): alternative starts
+    /// for a whole-body plan. Empty when every sample collided.
+    pub ranked: Vec<ManipulationPlan>,
 }
 
 impl PlacementOutcome {
@@ -323,7 +328,8 @@ pub fn place_and_plan(
         Some(Stop::Cancelled) => Some("cancelled".to_owned()),
         None => None,
     };
-    let Some(best) = sampled.best else {
+    let ranked = sampled.ranked;
+    let Some(best) = ranked.first().cloned() else {
         let n = motion.len();
         let reason = stopped.unwrap_or_else(|| {
             format!(
@@ -344,6 +350,7 @@ pub fn place_and_plan(
             reason: Some(reason),
             elapsed: start.elapsed(),
             stats,
+            ranked,
         });
     };
     let mut method = PlacementMethod::Sampled;
@@ -393,6 +400,7 @@ pub fn place_and_plan(
         reason,
         elapsed: start.elapsed(),
         stats,
+        ranked,
     })
 }
 

@@ -18,8 +18,9 @@ use crate::scene::collision::Body;
 /// What the sampler found.
 #[derive(Debug, Clone)]
 pub(crate) struct SampleResult {
-    /// The best plan, `None` if every sample collided.
-    pub best: Option<ManipulationPlan>,
+    /// The best plans, best first, at most [`SamplingSettings::keep`]; empty if every sample
+    /// collided.
+    pub ranked: Vec<ManipulationPlan>,
     /// Base poses drawn.
     pub drawn: usize,
     /// Of those, rejected because the base links collide.
@@ -87,7 +88,8 @@ pub(crate) fn region(
 /// (the robot's current pose `robot_from` first, when `current_pose` is set, outside that
 /// count); keeps the plan with the most waypoints reached (or, for
 /// [`PlacementObjective::LongestPrefix`], the longest reached prefix), then the lowest
-/// `path_length + distance_weight · ‖base − robot_from‖`, then the earliest.
+/// `path_length + distance_weight · ‖base − robot_from‖`, then the earliest; the
+/// [`SamplingSettings::keep`] best are kept in that order.
 pub(crate) fn sample(
     prepared: &Prepared<'_>,
     robot_from: [f64; 3],
@@ -106,12 +108,13 @@ pub(crate) fn sample(
         let d = (Vector2::new(plan.base[0], plan.base[1]) - Vector2::from(here)).norm();
         plan.path_length() + sampling.distance_weight * d
     };
-    let mut best: Option<(usize, f64, ManipulationPlan)> = None;
+    let keep = sampling.keep.max(1);
+    let mut best: Vec<(usize, f64, ManipulationPlan)> = Vec::with_capacity(keep + 1);
     let (mut drawn, mut rejected) = (0, 0);
     let mut obstacles = BTreeSet::new();
     let mut stopped = None;
     let consider = |base: [f64; 3],
-                    best: &mut Option<(usize, f64, ManipulationPlan)>,
+                    best: &mut Vec<(usize, f64, ManipulationPlan)>,
                     obstacles: &mut BTreeSet<PartId>|
      -> Result<bool, PlacementError> {
         let grid = prepared.problem.model.base_grid();
@@ -130,7 +133,7 @@ pub(crate) fn sample(
         }
         let (cutoff, reached): (Cutoff, fn(&ManipulationPlan) -> usize) = match sampling.objective {
             PlacementObjective::MostReached => (
-                Cutoff::Reached(best.as_ref().map_or(0, |b| b.0)),
+                Cutoff::Reached(best.first().map_or(0, |b| b.0)),
                 ManipulationPlan::reached_count,
             ),
             PlacementObjective::LongestPrefix => {
@@ -140,11 +143,14 @@ pub(crate) fn sample(
         let plan = prepared.plan(base, seed, manipulation, cutoff)?;
         obstacles.extend(obstacle_parts(&plan));
         let score = (reached(&plan), cost(&plan));
-        let better = best
-            .as_ref()
-            .is_none_or(|b| score.0 > b.0 || (score.0 == b.0 && score.1 < b.1));
-        if better {
-            *best = Some((score.0, score.1, plan));
+        // After every plan at least as good (the earliest first among equals).
+        let at = best
+            .iter()
+            .position(|b| score.0 > b.0 || (score.0 == b.0 && score.1 < b.1))
+            .unwrap_or(best.len());
+        if at < keep {
+            best.insert(at, (score.0, score.1, plan));
+            best.truncate(keep);
         }
         Ok(true)
     };
@@ -178,7 +184,7 @@ pub(crate) fn sample(
         }
     }
     Ok(SampleResult {
-        best: best.map(|b| b.2),
+        ranked: best.into_iter().map(|b| b.2).collect(),
         drawn,
         rejected,
         stopped,

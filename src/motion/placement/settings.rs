@@ -151,6 +151,12 @@ pub struct SamplingSettings {
     /// What makes one sample better than another before the tie-break: the most waypoints
     /// reached (the paper's, default) or the longest reached prefix.
     pub objective: PlacementObjective,
+    /// How many of the best evaluated base poses' plans the outcome keeps
+    /// ([`PlacementOutcome::ranked`](super::PlacementOutcome::ranked)), best first by the
+    /// objective and the tie-break: the alternatives a whole-body plan may start from (with
+    /// [`PlacementObjective::MostReached`] a plan that cannot beat the best is evaluated only
+    /// until that shows, so the others rank by a lower bound). >= 1. Default 1.
+    pub keep: usize,
 }
 
 impl Default for SamplingSettings {
@@ -167,6 +173,7 @@ impl Default for SamplingSettings {
             distance_weight: 0.5,
             current_pose: true,
             objective: PlacementObjective::MostReached,
+            keep: 1,
         }
     }
 }
@@ -325,6 +332,9 @@ impl SamplingSettings {
     pub fn validate(&self) -> Result<(), PlacementError> {
         if self.samples == 0 {
             return Err(InvalidSetting::new("sampling.samples", 0.0, ">= 1").into());
+        }
+        if self.keep == 0 {
+            return Err(InvalidSetting::new("sampling.keep", 0.0, ">= 1").into());
         }
         if self.max_draws < self.samples {
             return Err(InvalidSetting::new(

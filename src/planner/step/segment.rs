@@ -217,7 +217,7 @@ impl Segments<'_, '_> {
         let first = r.step.from == self.step.from;
         let prefix = match self.first_prefix.take().filter(|_| first) {
             Some(prefix) => prefix,
-            None => longest_prefix(r, self.handle, base)?,
+            None => longest_prefix(r, self.handle, base, 1)?,
         };
         self.causes.extend(prefix.obstacle_parts.iter().copied());
         let motion = &prefix.motion;
@@ -293,15 +293,18 @@ impl Segments<'_, '_> {
 
 /// The placement of `r`'s segment with the objective
 /// [`LongestPrefix`](PlacementObjective::LongestPrefix) (sampled), the robot's base at `base`:
-/// the base pose from which the arm follows the motion furthest without letting go.
+/// the base pose from which the arm follows the motion furthest without letting go, with the
+/// `keep` best samples in [`PlacementOutcome::ranked`].
 pub(super) fn longest_prefix(
     r: &StepRefinement<'_, '_>,
     handle: HandleId,
     base: [f64; 3],
+    keep: usize,
 ) -> Result<PlacementOutcome, PlannerError> {
     let mut settings = r.ctx.settings.placement.clone();
     settings.method = PlacementMethod::Sampled;
     settings.sampling.objective = PlacementObjective::LongestPrefix;
+    settings.sampling.keep = keep.max(1);
     r.placement(handle, base, &settings)
 }
 

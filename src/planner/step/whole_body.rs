@@ -8,7 +8,7 @@ use super::segment::{Segments, longest_prefix};
 use super::{Check, Compared, Failed, StepMotion, StepReason, same_pose};
 use crate::motion::placement::{
     JointMotion, PlacementOutcome, WholeBodyOutcome, WholeBodyPlan, WholeBodySettings,
-    plan_whole_body,
+    WholeBodyStart, plan_whole_body_from_starts,
 };
 use crate::planner::PlannerError;
 use crate::scene::State;
@@ -48,9 +48,12 @@ impl Segments<'_, '_> {
     /// The whole step executed with the base moving along with the arm, from `state` with the
     /// base at `base`, when the placement of the step (kept for the segments) does not cover
     /// it: `None` when it does, else the motion or why there is none. The whole-body plan
-    /// starts at the base pose and first configuration of the longest-prefix placement (where
-    /// the arm follows the handle furthest from one base pose; kept for the segments too), or,
-    /// if that one reaches no waypoint or is not tracked, of the placement itself.
+    /// starts, in order, at the base poses and first configurations of the
+    /// [`WholeBodySettings::starts`] best samples of the longest-prefix placement (where the arm
+    /// follows the handle furthest from one base pose; the best is kept for the segments too)
+    /// and of the placement itself, those that reach the first waypoint, the first
+    /// [`WholeBodySettings::starts`] of them, each with [`WholeBodySettings::arm_seeds`] arm
+    /// seeds ([`plan_whole_body_from_starts`]); the first that tracks is kept.
     pub(super) fn whole_body(
         &mut self,
         settings: &WholeBodySettings,
@@ -68,23 +71,16 @@ impl Segments<'_, '_> {
             self.first_whole = Some(whole);
             return Ok(None);
         }
-        let prefix = longest_prefix(&r, self.handle, base)?;
+        let prefix = longest_prefix(&r, self.handle, base, settings.starts)?;
         self.causes.extend(prefix.obstacle_parts.iter().copied());
+        let starts = starts(&prefix, &whole, settings.starts);
         let mut why = Vec::new();
+        if starts.is_empty() {
+            why.push("whole-body: the arm reaches the first waypoint from no start".to_owned());
+        }
         let mut tracked = None;
-        let again = same_pose(&prefix.base, &whole.base);
-        for start in [&prefix, &whole]
-            .into_iter()
-            .take(if again { 1 } else { 2 })
-        {
-            if start.reached_prefix() == 0 {
-                why.push(format!(
-                    "from ({:.3}, {:.3}, {:.3}): the arm reaches no waypoint there",
-                    start.base[0], start.base[1], start.base[2]
-                ));
-                continue;
-            }
-            match self.track(&r, start, settings)? {
+        for start in &starts {
+            match self.track(&r, &prefix.motion, start, settings)? {
                 Ok(placed) => {
                     tracked = Some(placed);
                     break;
@@ -111,33 +107,70 @@ impl Segments<'_, '_> {
         }))
     }
 
-    /// The whole-body plan of `r`'s step from the base pose and first configuration of
-    /// `start`, as a placement, or why there is none.
+    /// The whole-body plan of `r`'s step along `motion` from `start` (its arm seeds as
+    /// [`plan_whole_body_from_starts`] draws them), as a placement, or why there is none
+    /// (every attempt's furthest waypoint and failure).
     fn track(
         &self,
         r: &StepRefinement<'_, '_>,
-        start: &PlacementOutcome,
+        motion: &JointMotion,
+        start: &WholeBodyStart,
         settings: &WholeBodySettings,
     ) -> Result<Result<Placed, String>, PlannerError> {
         let placement = &self.ctx.settings.placement;
-        let outcome = plan_whole_body(
+        let attempts = plan_whole_body_from_starts(
             r.problem(),
-            &start.motion,
-            start.base,
-            &start.arm[0],
+            motion,
+            std::slice::from_ref(start),
             placement.grasp,
             &placement.manipulation,
             settings,
+            self.ctx.termination,
         )?;
-        let b = start.base;
-        let from = format!("from ({:.3}, {:.3}, {:.3})", b[0], b[1], b[2]);
-        Ok(match outcome {
-            WholeBodyOutcome::Tracked(plan) => {
-                Placed::whole_body(&plan, &start.motion).map_err(|e| format!("{from}: {e}"))
+        let mut why = Vec::new();
+        for attempt in &attempts {
+            if let WholeBodyOutcome::Tracked(plan) = &attempt.outcome {
+                let b = attempt.base;
+                return Ok(Placed::whole_body(plan, motion).map_err(|e| {
+                    format!(
+                        "from ({:.3}, {:.3}, {:.3}) arm seed {}: {e}",
+                        b[0], b[1], b[2], attempt.arm_seed
+                    )
+                }));
             }
-            failed => Err(format!("{from}: {}", failed.reason().unwrap_or_default())),
-        })
+            why.push(attempt.summary());
+        }
+        if why.is_empty() {
+            why.push("whole-body: stopped before any attempt".to_owned());
+        }
+        Ok(Err(why.join("; ")))
     }
+}
+
+/// The starts of a step's whole-body plan: the base poses and first configurations of the
+/// longest-prefix placement's ranked samples, then of the placement `whole` (unless at one
+/// of those poses), those that reach the first waypoint, at most `count`.
+fn starts(
+    prefix: &PlacementOutcome,
+    whole: &PlacementOutcome,
+    count: usize,
+) -> Vec<WholeBodyStart> {
+    let mut out: Vec<WholeBodyStart> = Vec::with_capacity(count);
+    let ranked = prefix
+        .ranked
+        .iter()
+        .filter(|p| p.reached_prefix() > 0)
+        .map(|p| (p.base, &p.arm[0]));
+    let whole = (whole.reached_prefix() > 0).then(|| (whole.base, &whole.arm[0]));
+    for (base, seed) in ranked.chain(whole) {
+        if out.len() < count && !out.iter().any(|s| same_pose(&s.base, &base)) {
+            out.push(WholeBodyStart {
+                base,
+                seed: seed.clone(),
+            });
+        }
+    }
+    out
 }
 
 /// The step's motion from the segmented refinement `segmented` and the whole-body attempt

@@ -60,12 +60,14 @@
 mod check;
 mod model;
 mod run;
+mod starts;
 
 use std::fmt;
 
 use nalgebra::DVector;
 
 pub use check::sideways;
+pub use starts::{WholeBodyAttempt, WholeBodyStart, plan_whole_body_from_starts};
 
 use super::manipulation::Prepared;
 use super::plan::WaypointFailure;
@@ -105,6 +107,15 @@ pub struct WholeBodySettings {
     /// coordinates the new solutions move farthest along. Costs IK solves only where those
     /// candidates fail. Default true.
     pub restricted_base_steps: bool,
+    /// How many starts (base poses) [`plan_whole_body_from_starts`] tries, in the order given
+    /// (the planner: the best samples of the longest-prefix placement), in `1..=64`.
+    /// Default 4.
+    pub starts: usize,
+    /// How many arm seeds [`plan_whole_body_from_starts`] tries per start: the start's own,
+    /// then configurations drawn within the joint limits, in `1..=64`. Default 3.
+    pub arm_seeds: usize,
+    /// Seed of the generator drawing those arm seeds. Default 0x7762 ("wb").
+    pub seed: u64,
 }
 
 impl Default for WholeBodySettings {
@@ -116,6 +127,9 @@ impl Default for WholeBodySettings {
             posture_step: 0.1,
             posture_tolerance: 0.5,
             restricted_base_steps: true,
+            starts: 4,
+            arm_seeds: 3,
+            seed: 0x7762,
         }
     }
 }
@@ -146,6 +160,12 @@ impl WholeBodySettings {
         if s.posture_tolerance.is_nan() || s.posture_tolerance <= 0.0 {
             let t = s.posture_tolerance;
             return Err(InvalidSetting::new("posture_tolerance", t, "> 0").into());
+        }
+        if !(1..=64).contains(&s.starts) {
+            return Err(InvalidSetting::new("starts", s.starts as f64, "in 1..=64").into());
+        }
+        if !(1..=64).contains(&s.arm_seeds) {
+            return Err(InvalidSetting::new("arm_seeds", s.arm_seeds as f64, "in 1..=64").into());
         }
         Ok(())
     }
