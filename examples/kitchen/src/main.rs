@@ -4,6 +4,7 @@
 //! bash setup.sh && cargo run --release -p kinscene-kitchen              # the full run
 //! cargo run --release -p kinscene-kitchen -- --quick                    # small sizes
 //! cargo run --release -p kinscene-kitchen -- --experiments fig5,table2 --runs 3 --seed 7
+//! cargo run --release -p kinscene-kitchen -- --quick --experiments table1 --whole-body
 //! cargo run --release -p kinscene-kitchen -- --scene examples/scenes/galley.urdf \
 //!     --goal examples/scenes/goals/galley.toml --out out/galley    # another scene
 //! ```
@@ -108,6 +109,10 @@ struct Args {
     /// Put wall-clock times into the report.
     #[arg(long)]
     wall_clock: bool,
+    /// Whole-body manipulation: the planner may open a part that no single base pose covers
+    /// with the base moving along with the arm (default off: the paper's fixed base).
+    #[arg(long)]
+    whole_body: bool,
     /// No progress output.
     #[arg(long)]
     quiet: bool,
@@ -144,6 +149,7 @@ fn config(args: &Args) -> Result<Config, pipeline::PipelineError> {
         estimator: EstimatorChoice::parse(&args.estimator)?,
         planner_budget: args.budget,
         wall_clock: args.wall_clock,
+        whole_body: args.whole_body,
         head_rays: args.head_rays.or(base.head_rays),
         sequences: args.sequences.as_ref().map(|s| {
             s.split(',')

@@ -38,6 +38,7 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use kinscene::kinematics::robot::RobotModel;
+use kinscene::motion::placement::WholeBodySettings;
 use kinscene::planner::{HierarchicalPlanner, PlannerSettings};
 use kinscene::scene::urdf;
 
@@ -160,11 +161,13 @@ fn selected_table1(config: &Config) -> Result<Vec<(String, f64)>, PipelineError>
 /// path instead of 1 s. A seeded OMPL call is reproducible only when it ends before its
 /// budget; a path that is hard to find (or does not exist) ends on the wall clock, and its
 /// verdict can then differ between two runs of the same seed. The larger budget makes that
-/// rare (seen once in two full runs with 1 s, in a Random baseline's refinement).
+/// rare (seen once in two full runs with 1 s, in a Random baseline's refinement). With
+/// [`Config::whole_body`], whole-body manipulation with its default settings.
 fn planner_settings(config: &Config) -> PlannerSettings {
     let mut s = PlannerSettings::default();
     s.paths.seed = Some(config.seed);
     s.paths.budget = Duration::from_secs(3);
+    s.whole_body = config.whole_body.then(WholeBodySettings::default);
     s
 }
 

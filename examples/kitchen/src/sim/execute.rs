@@ -50,6 +50,30 @@ fn ticks(duration: f64, tick: f64) -> impl Iterator<Item = f64> {
     (0..=n).map(move |k| duration * k as f64 / n as f64)
 }
 
+/// Checks that a whole-body manipulation's base path goes with its arm path: one base pose
+/// per arm waypoint, at the same times (the planner times both together).
+fn check_companion(bases: &TimedPath, arm: &TimedPath) -> Result<(), ExecFailure> {
+    let same_times = bases.times.len() == arm.times.len()
+        && bases
+            .times
+            .iter()
+            .zip(&arm.times)
+            .all(|(a, b)| (a - b).abs() <= 1e-9)
+        && (bases.duration - arm.duration).abs() <= 1e-9;
+    if bases.positions.len() == arm.positions.len() && same_times {
+        Ok(())
+    } else {
+        Err(other(format!(
+            "malformed manipulation base path: {} base poses over {:.3} s for {} arm waypoints \
+             over {:.3} s (one per waypoint, at the same times)",
+            bases.positions.len(),
+            bases.duration,
+            arm.positions.len(),
+            arm.duration
+        )))
+    }
+}
+
 impl SimWorld {
     /// [`SimWorld::execute_step`].
     pub(super) fn run_step(&mut self, step: &StepMotion) -> StepExecution {
@@ -81,12 +105,9 @@ impl SimWorld {
         check_path(&step.approach, dof, "approach")?;
         check_path(&step.manipulation, dof, "manipulation")?;
         check_path(&step.retreat, dof, "retreat")?;
-        if step.manipulation_base.is_some() {
-            // The simulated base stands still while the arm moves: a whole-body manipulation
-            // would be executed at the wrong base poses.
-            return Err(other(
-                "whole-body manipulation (the base moving with the arm) is not simulated",
-            ));
+        if let Some(bases) = &step.manipulation_base {
+            check_path(bases, 3, "manipulation base path")?;
+            check_companion(bases, &step.manipulation)?;
         }
         // Between steps: gripper open, arm stowed.
         self.physics.detach();
@@ -111,7 +132,12 @@ impl SimWorld {
         self.follow_arm(&step.approach, &reached, "approach", exec)?;
 
         let part = self.close_gripper()?;
-        self.follow_manipulation(&step.manipulation, part, exec)?;
+        self.follow_manipulation(
+            &step.manipulation,
+            step.manipulation_base.as_ref(),
+            part,
+            exec,
+        )?;
         self.physics.detach();
         self.settle(RELEASE_SETTLE);
         let held = self.subtree_ids(part);
@@ -234,10 +260,20 @@ impl SimWorld {
     }
 
     /// Follows the manipulation trajectory with the physics running: the grasped part moves
-    /// along its true joint as far as the grasp spring drags it.
+    /// along its true joint as far as the grasp spring drags it. With `bases` (a whole-body
+    /// manipulation) the base moves too, to its pose sampled at the same time as the arm's
+    /// configuration; the robot's links, base included, are moved kinematically at every
+    /// physics step and checked against the scene as the arm is. The robot ends at the last
+    /// base pose, where the retreat runs.
+    ///
+    /// Time: the manipulation's duration counts as arm time, whether or not the base moves
+    /// (the planner's `StepTiming::arm` counts it so too); the base's share is not added to
+    /// the base time, since base and arm move at once and the base time is the time spent
+    /// driving with the arm stowed.
     fn follow_manipulation(
         &mut self,
         path: &TimedPath,
+        bases: Option<&TimedPath>,
         part: usize,
         exec: &mut StepExecution,
     ) -> Result<(), ExecFailure> {
@@ -247,16 +283,27 @@ impl SimWorld {
         let n = ((path.duration / DT).ceil() as usize).max(1);
         let slip_per_step = self.settings.faults.grasp_slip * path.duration / n as f64;
         let name = |w: &SimWorld, k: usize| w.truth.parts()[k].name().to_string();
+        let mut traced = self.robot.base;
         for s in 1..=n {
             let t = path.duration * s as f64 / n as f64;
             let q = self.arm_at(path, t);
+            let base = bases.map_or(self.robot.base, |b| {
+                let p = b.sample(t);
+                [p[0], p[1], p[2]]
+            });
             let poses = self
                 .robot
-                .link_poses_at(self.robot.base, &q)
+                .link_poses_at(base, &q)
                 .map_err(|e| other(e.to_string()))?;
             self.physics.move_links(&poses);
             self.physics.step();
             self.robot.arm = q;
+            self.robot.base = base;
+            let moved = (base[0] - traced[0]).hypot(base[1] - traced[1]);
+            if moved >= TRACE_SPACING || (s == n && base != traced) {
+                self.trace.push(pose_of(&base));
+                traced = base;
+            }
             self.check_watch(Clock {
                 base: exec.base_time,
                 arm: exec.arm_time + t,

@@ -470,7 +470,9 @@ impl SimWorld {
 
     /// Executes one planned step: drives the base along its path, the arm along approach,
     /// closes the gripper on the handle under the tool (if any), follows the manipulation
-    /// trajectory with the part moving under physics, releases and retreats.
+    /// trajectory with the part moving under physics, releases and retreats. A whole-body
+    /// manipulation ([`StepMotion::manipulation_base`]) moves the base along its timed poses
+    /// with the arm; the retreat then runs at the last of them ([`StepMotion::end_base`]).
     ///
     /// The handle is whichever true handle is within 3.5 cm of the tool at the end of the
     /// approach (the plan's joint and handle names may be an estimated model's). Failures:

@@ -6,3 +6,4 @@ mod sensors_tests;
 mod sim_tests;
 mod svg_tests;
 mod viewpoint_tests;
+mod whole_body_tests;

@@ -1,4 +1,5 @@
-//! A plan in a top view: each step's part sweep, base path and manipulation base pose.
+//! A plan in a top view: each step's part sweep, base path, manipulation base pose and the
+//! base's trail along a whole-body manipulation.
 
 use kinscene::planner::MotionPlan;
 use kinscene::scene::{SceneData, SceneModel, State, forward_kinematics};
@@ -23,6 +24,35 @@ pub(super) struct StepDrawing {
     path: Vec<Point2<f64>>,
     /// Manipulation base pose x, y, yaw.
     base: [f64; 3],
+    /// The base's (x, y) along a whole-body manipulation (one per waypoint, from `base` to
+    /// the end pose); empty when the base stands still.
+    trail: Vec<Point2<f64>>,
+}
+
+/// The (x, y) of each waypoint of a path, checked finite and added to `bounds` padded by
+/// `radius`; `what` names the path in errors.
+fn planar_points(
+    what: &str,
+    positions: &[Vec<f64>],
+    radius: f64,
+    bounds: &mut Bounds,
+) -> Result<Vec<Point2<f64>>, SvgError> {
+    let mut points = Vec::with_capacity(positions.len());
+    for (w, q) in positions.iter().enumerate() {
+        if q.len() < 2 {
+            return Err(SvgError::DimensionMismatch {
+                what: format!("{what} waypoint {}", w + 1),
+                expected: 3,
+                got: q.len(),
+            });
+        }
+        let x = check_finite(|| format!("{what} x"), q[0])?;
+        let y = check_finite(|| format!("{what} y"), q[1])?;
+        let p = Point2::new(x, y);
+        bounds.add(p, radius);
+        points.push(p);
+    }
+    Ok(points)
 }
 
 /// The steps of `plan` replayed from `start`: each step's joint is set to `sweep_samples`
@@ -77,21 +107,22 @@ pub(super) fn replay_plan(
                 }
             }
         }
-        let mut path = Vec::with_capacity(step.base_path.positions.len());
-        for (w, q) in step.base_path.positions.iter().enumerate() {
-            if q.len() < 2 {
-                return Err(SvgError::DimensionMismatch {
-                    what: format!("plan step {n} base path waypoint {}", w + 1),
-                    expected: 3,
-                    got: q.len(),
-                });
-            }
-            let x = check_finite(|| format!("plan step {n} base path x"), q[0])?;
-            let y = check_finite(|| format!("plan step {n} base path y"), q[1])?;
-            let p = Point2::new(x, y);
-            bounds.add(p, options.robot_radius);
-            path.push(p);
-        }
+        let radius = options.robot_radius;
+        let path = planar_points(
+            &format!("plan step {n} base path"),
+            &step.base_path.positions,
+            radius,
+            bounds,
+        )?;
+        let trail = match &step.manipulation_base {
+            Some(b) => planar_points(
+                &format!("plan step {n} manipulation base path"),
+                &b.positions,
+                radius,
+                bounds,
+            )?,
+            None => Vec::new(),
+        };
         for (c, v) in ["x", "y", "yaw"].iter().zip(step.base) {
             check_finite(|| format!("plan step {n} base {c}"), v)?;
         }
@@ -110,12 +141,14 @@ pub(super) fn replay_plan(
             sweep,
             path,
             base: step.base,
+            trail,
         });
     }
     Ok(steps)
 }
 
-/// The sweeps, then the base paths, then the base poses (on top), one palette colour per step.
+/// The sweeps, then the base paths, then the base's trail along a whole-body manipulation
+/// (dashed, a dot at its end), then the base poses (on top), one palette colour per step.
 pub(super) fn draw_plan(
     svg: &mut Svg,
     view: &View,
@@ -161,6 +194,24 @@ pub(super) fn draw_plan(
         let (x, y) = view.px(step.path[0]);
         svg.raw(&format!(
             r##"<circle class="path-start" cx="{}" cy="{}" r="3.5" fill="#ffffff" stroke="{colour}" stroke-width="1.5"/>"##,
+            px(x),
+            px(y)
+        ));
+    }
+    for (i, step) in steps.iter().enumerate() {
+        let colour = palette(i);
+        let Some(end) = step.trail.last() else {
+            continue;
+        };
+        svg.raw(&format!(
+            r#"<polyline class="manipulation-base" data-step="{}" points="{}" fill="none" stroke="{colour}" stroke-width="2" stroke-dasharray="4 3" stroke-linejoin="round"/>"#,
+            i + 1,
+            view.points(&step.trail)
+        ));
+        let (x, y) = view.px(*end);
+        svg.raw(&format!(
+            r#"<circle class="manipulation-end" data-step="{}" cx="{}" cy="{}" r="3.5" fill="{colour}"/>"#,
+            i + 1,
             px(x),
             px(y)
         ));

@@ -104,7 +104,8 @@ impl TopViewOptions {
 /// filled outlines (projections of their colliders), handles as dots; for a plan, each step's
 /// part sweep (the moving part's outline at several values from `from` to `to`, one colour per
 /// step, numbered), the planned base path of each step (polyline) and the base pose of each
-/// manipulation (robot footprint circle with heading); `trace` (executed base poses) as a
+/// manipulation (robot footprint circle with heading), and for a whole-body manipulation the
+/// base's trail along it (dashed, a dot at the end pose); `trace` (executed base poses) as a
 /// dashed line. Returns a standalone SVG document.
 ///
 /// Uses [`TopViewOptions::default`]; see [`top_view_with`].
