@@ -48,17 +48,18 @@ impl StepRefinement<'_, '_> {
     ) -> Result<Result<Vec<Vec<f64>>, Failed>, PlannerError> {
         let ctx = self.ctx;
         let (lower, upper) = ctx.robot.arm_bounds();
+        let scene = EdgeScene {
+            model: ctx.model,
+            data: arm.data,
+            exempt: arm.exempt,
+            margin: arm.margin,
+        };
         let edges = match (&ctx.settings.certified_arm_edges, ctx.spheres) {
             (Some(settings), Some(spheres)) => Some(ArmEdgeCheck::new(
                 ctx.robot,
                 ctx.collision,
                 spheres,
-                EdgeScene {
-                    model: ctx.model,
-                    data: arm.data,
-                    exempt: arm.exempt,
-                    margin: arm.margin,
-                },
+                scene,
                 arm.base,
                 settings,
             )?),
@@ -74,12 +75,7 @@ impl StepRefinement<'_, '_> {
                 ctx.robot,
                 ctx.collision,
                 spheres,
-                EdgeScene {
-                    model: ctx.model,
-                    data: arm.data,
-                    exempt: arm.exempt,
-                    margin: arm.margin,
-                },
+                scene,
                 arm.base,
             )?),
             _ => None,

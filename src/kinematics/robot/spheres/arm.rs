@@ -130,20 +130,7 @@ impl<'a> ArmCheck<'a> {
         scene: EdgeScene<'a>,
         base: [f64; 3],
     ) -> Result<Self, RobotError> {
-        let links = robot.links().len();
-        if spheres.links().len() != links {
-            return Err(RobotError::DimensionMismatch {
-                what: "sphere model links",
-                expected: links,
-                got: spheres.links().len(),
-            });
-        }
-        if let Some(index) = base.iter().position(|v| !v.is_finite()) {
-            return Err(RobotError::NonFiniteValue {
-                what: "base",
-                index,
-            });
-        }
+        let links = super::edge::check_inputs(robot, spheres, base)?;
         let world_from_base = RobotModel::world_from_base(base);
         let balls = spheres
             .links()

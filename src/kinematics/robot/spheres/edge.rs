@@ -138,20 +138,7 @@ impl<'a> ArmEdgeCheck<'a> {
         settings: &EdgeSettings,
     ) -> Result<Self, RobotError> {
         settings.validate()?;
-        let links = robot.links().len();
-        if spheres.links().len() != links {
-            return Err(RobotError::DimensionMismatch {
-                what: "sphere model links",
-                expected: links,
-                got: spheres.links().len(),
-            });
-        }
-        if let Some(index) = base.iter().position(|v| !v.is_finite()) {
-            return Err(RobotError::NonFiniteValue {
-                what: "base",
-                index,
-            });
-        }
+        check_inputs(robot, spheres, base)?;
         let movers = movers(robot);
         let rho = spheres
             .links()
@@ -333,6 +320,30 @@ struct Mover {
 
 /// Per link ([`RobotModel::links`] order: the base, then the child of each arm joint), the
 /// arm joints that move it: joint `j` moves links `j + 1 ..`.
+/// The number of `robot`'s links, after checking that `spheres` covers as many and that `base`
+/// is finite (the inputs of the edge and arm checks).
+pub(super) fn check_inputs(
+    robot: &RobotModel,
+    spheres: &RobotSpheres,
+    base: [f64; 3],
+) -> Result<usize, RobotError> {
+    let links = robot.links().len();
+    if spheres.links().len() != links {
+        return Err(RobotError::DimensionMismatch {
+            what: "sphere model links",
+            expected: links,
+            got: spheres.links().len(),
+        });
+    }
+    if let Some(index) = base.iter().position(|v| !v.is_finite()) {
+        return Err(RobotError::NonFiniteValue {
+            what: "base",
+            index,
+        });
+    }
+    Ok(links)
+}
+
 fn movers(robot: &RobotModel) -> Vec<Vec<Mover>> {
     let joints = robot.arm_joints();
     // The distance of link m + 1's origin from link m's origin, at most.
