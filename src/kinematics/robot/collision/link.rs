@@ -3,8 +3,9 @@
 
 use nalgebra::Isometry3;
 
-use super::{GROUND_TOP, RobotCollision, min_distance};
+use super::{GROUND_TOP, RobotCollision, min_distance, scene_shapes};
 use crate::kinematics::robot::Exempt;
+use crate::scene::collision::Body;
 use crate::scene::collision::geometry::Placed;
 use crate::scene::{PartId, SceneData, SceneModel};
 
@@ -67,11 +68,7 @@ impl RobotCollision {
         data: &SceneData,
         exempt: Exempt<'_>,
     ) -> f64 {
-        let (ignore, grasped): (&[PartId], &[PartId]) = match exempt {
-            Exempt::Nothing => (&[], &[]),
-            Exempt::Grasp(parts) => (&[], parts),
-            Exempt::Parts(parts) => (parts, &[]),
-        };
+        let (ignore, grasped) = exempt.split();
         let (Some(pose), Some(shapes)) = (link_poses.get(l), self.shapes.get(l)) else {
             return f64::INFINITY;
         };
@@ -196,38 +193,14 @@ impl<'a> PlacedScene<'a> {
     /// The shapes of `model` at the part poses of `data` (which must hold
     /// [`crate::scene::forward_kinematics`] of `model`) under `exempt`.
     pub(crate) fn new(model: &'a SceneModel, data: &SceneData, exempt: Exempt<'_>) -> Self {
-        let (ignore, grasped): (&[PartId], &[PartId]) = match exempt {
-            Exempt::Nothing => (&[], &[]),
-            Exempt::Grasp(parts) => (&[], parts),
-            Exempt::Parts(parts) => (parts, &[]),
-        };
-        let identity = Isometry3::identity();
-        let mut shapes = Vec::new();
-        for shape in &model.geometry.base {
-            shapes.push(SceneShape {
-                placed: Placed::new(shape, &identity),
-                floor: shape.world_box(&identity).max.z <= GROUND_TOP,
-                grasped: false,
-            });
-        }
-        for (p, (part_shapes, pose)) in model
-            .geometry
-            .parts
-            .iter()
-            .zip(data.world_from_parts())
-            .enumerate()
-        {
-            if ignore.contains(&PartId(p)) {
-                continue;
-            }
-            for shape in part_shapes {
-                shapes.push(SceneShape {
-                    placed: Placed::new(shape, pose),
-                    floor: shape.world_box(pose).max.z <= GROUND_TOP,
-                    grasped: grasped.contains(&PartId(p)),
-                });
-            }
-        }
+        let (ignore, grasped) = exempt.split();
+        let shapes = scene_shapes(model, data, ignore)
+            .map(|(body, shape, pose)| SceneShape {
+                placed: Placed::new(shape, &pose),
+                floor: shape.world_box(&pose).max.z <= GROUND_TOP,
+                grasped: matches!(body, Body::Part(p) if grasped.contains(&p)),
+            })
+            .collect();
         PlacedScene { shapes }
     }
 

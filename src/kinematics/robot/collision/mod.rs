@@ -53,6 +53,49 @@ pub enum Exempt<'a> {
     Parts(&'a [PartId]),
 }
 
+impl<'a> Exempt<'a> {
+    /// The parts not checked at all and the parts only the contact shapes may touch.
+    pub(crate) fn split(self) -> (&'a [PartId], &'a [PartId]) {
+        match self {
+            Exempt::Nothing => (&[], &[]),
+            Exempt::Grasp(parts) => (&[], parts),
+            Exempt::Parts(parts) => (parts, &[]),
+        }
+    }
+}
+
+/// The scene's collision shapes at the part poses of `data`, with the body each belongs to and
+/// its world pose: the base shapes (at the identity), then the shapes of every part not in
+/// `ignore`.
+pub(crate) fn scene_shapes<'m, 'd>(
+    model: &'m SceneModel,
+    data: &'d SceneData,
+    ignore: &'d [PartId],
+) -> impl Iterator<Item = (Body, &'m CompiledShape, Isometry3<f64>)> + 'd
+where
+    'm: 'd,
+{
+    let base = model
+        .geometry
+        .base
+        .iter()
+        .enumerate()
+        .map(|(k, shape)| (Body::Base(BaseShapeId(k)), shape, Isometry3::identity()));
+    let parts = model
+        .geometry
+        .parts
+        .iter()
+        .zip(data.world_from_parts())
+        .enumerate()
+        .filter(move |(p, _)| !ignore.contains(&PartId(*p)))
+        .flat_map(|(p, (shapes, pose))| {
+            shapes
+                .iter()
+                .map(move |shape| (Body::Part(PartId(p)), shape, *pose))
+        });
+    base.chain(parts)
+}
+
 /// The robot's compiled collision geometry and its self-collision pairs. Built once per robot
 /// ([`RobotCollision::new`]); immutable, `Send + Sync`.
 #[derive(Debug, Clone)]
@@ -207,11 +250,7 @@ impl RobotCollision {
         exempt: Exempt<'_>,
         margin: f64,
     ) -> Option<(usize, Body)> {
-        let (ignore, grasped): (&[PartId], &[PartId]) = match exempt {
-            Exempt::Nothing => (&[], &[]),
-            Exempt::Grasp(parts) => (&[], parts),
-            Exempt::Parts(parts) => (parts, &[]),
-        };
+        let (ignore, grasped) = exempt.split();
         let margin = if margin > 0.0 { margin } else { 0.0 };
         let links = self.shapes.len().min(link_poses.len());
         let placed: Vec<Vec<(Placed<'_>, WorldBox)>> = (0..links)
@@ -233,29 +272,11 @@ impl RobotCollision {
             .map(|(_, b)| *b)
             .reduce(WorldBox::union)?;
         // Scene shapes whose box meets the robot's (inflated) box.
-        let identity = Isometry3::identity();
         let mut candidates: Vec<(Body, Placed<'_>, WorldBox)> = Vec::new();
-        for (k, shape) in model.geometry.base.iter().enumerate() {
-            let b = shape.world_box(&identity);
+        for (body, shape, pose) in scene_shapes(model, data, ignore) {
+            let b = shape.world_box(&pose);
             if b.overlaps(&robot_box) {
-                candidates.push((Body::Base(BaseShapeId(k)), Placed::new(shape, &identity), b));
-            }
-        }
-        for (p, (shapes, pose)) in model
-            .geometry
-            .parts
-            .iter()
-            .zip(data.world_from_parts())
-            .enumerate()
-        {
-            if ignore.contains(&PartId(p)) {
-                continue;
-            }
-            for shape in shapes {
-                let b = shape.world_box(pose);
-                if b.overlaps(&robot_box) {
-                    candidates.push((Body::Part(PartId(p)), Placed::new(shape, pose), b));
-                }
+                candidates.push((body, Placed::new(shape, &pose), b));
             }
         }
         if candidates.is_empty() {

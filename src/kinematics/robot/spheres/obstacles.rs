@@ -5,9 +5,11 @@ use nalgebra::{Isometry3, Vector3};
 use wide::f32x8;
 
 use super::check::{FAR, LANES, SPHERE_SLACK, SphereData};
+use crate::kinematics::robot::collision::scene_shapes;
 use crate::kinematics::robot::{Exempt, GROUND_TOP};
+use crate::scene::collision::Body;
 use crate::scene::collision::geometry::CompiledShape;
-use crate::scene::{PartId, SceneData, SceneModel};
+use crate::scene::{SceneData, SceneModel};
 
 /// Eight rounded boxes, one per lane: centre, box axes (world), half extents, radius.
 #[derive(Debug, Clone, Copy)]
@@ -58,11 +60,7 @@ impl SphereObstacles {
         exempt: Exempt<'_>,
         margin: f64,
     ) -> SphereObstacles {
-        let (ignore, grasped): (&[PartId], &[PartId]) = match exempt {
-            Exempt::Nothing => (&[], &[]),
-            Exempt::Grasp(parts) => (&[], parts),
-            Exempt::Parts(parts) => (parts, &[]),
-        };
+        let (ignore, grasped) = exempt.split();
         let margin = if margin > 0.0 { margin } else { 0.0 };
         // (obstacle, on the floor, grasped)
         let mut all: Vec<(Rounded, bool, bool)> = Vec::new();
@@ -75,23 +73,12 @@ impl SphereObstacles {
                 grasp,
             ));
         };
-        let identity = Isometry3::identity();
-        for shape in &model.geometry.base {
-            add(shape, &identity, false);
-        }
-        for (p, (shapes, pose)) in model
-            .geometry
-            .parts
-            .iter()
-            .zip(data.world_from_parts())
-            .enumerate()
-        {
-            if ignore.contains(&PartId(p)) {
-                continue;
-            }
-            for shape in shapes {
-                add(shape, pose, grasped.contains(&PartId(p)));
-            }
+        for (body, shape, pose) in scene_shapes(model, data, ignore) {
+            add(
+                shape,
+                &pose,
+                matches!(body, Body::Part(p) if grasped.contains(&p)),
+            );
         }
         let count = all.len();
         let kept = |kind: usize| {
