@@ -1,7 +1,8 @@
 //! [`time_differential_drive`]: the exact profile of a differential-drive base path, under the
 //! forward speed and the yaw rate.
 
-use super::exact::{deltas, profile, validate};
+use super::exact::{deltas, validate};
+use super::whole_body::planar_profile;
 use super::{TimedPath, TimingError};
 
 /// Largest sideways displacement (m) or turn while driving (rad) a segment may have and still
@@ -67,28 +68,7 @@ pub fn time_differential_drive(
             });
         }
     }
-    Ok(profile(
-        path,
-        &deltas,
-        &|run: &[(&[f64], f64)], total: f64| {
-            let largest = |f: &dyn Fn(&[f64]) -> f64| {
-                run.iter()
-                    .filter(|(_, l)| *l > 0.0)
-                    .map(|(d, l)| f(d) / l)
-                    .fold(0.0, f64::max)
-            };
-            let forward = largest(&|d| d[0].hypot(d[1]));
-            let yaw = largest(&|d| d[2].abs());
-            let (mut speed, mut accel) = (f64::INFINITY, f64::INFINITY);
-            for (m, v, a) in [(forward, v, a), (yaw, w, alpha)] {
-                if m > 0.0 {
-                    speed = speed.min(v / (total * m));
-                    accel = accel.min(a / (total * m));
-                }
-            }
-            (speed, accel)
-        },
-    ))
+    Ok(planar_profile(path, &deltas, &[v, v, w], &[a, a, alpha]))
 }
 
 #[cfg(test)]

@@ -64,31 +64,38 @@ pub fn time_whole_body_differential(
         .collect();
     validate(path, &vmax, &amax, None)?;
     let deltas = deltas(path, None);
-    Ok(profile(
-        path,
-        &deltas,
-        &|run: &[(&[f64], f64)], total: f64| {
-            let largest = |f: &dyn Fn(&[f64]) -> f64| {
-                run.iter()
-                    .filter(|(_, l)| *l > 0.0)
-                    .map(|(d, l)| f(d) / l)
-                    .fold(0.0, f64::max)
-            };
-            let planar = largest(&|d| d[0].hypot(d[1]));
-            let (mut speed, mut accel) = (f64::INFINITY, f64::INFINITY);
-            let mut bound = |m: f64, v: f64, a: f64| {
-                if m > 0.0 {
-                    speed = speed.min(v / (total * m));
-                    accel = accel.min(a / (total * m));
-                }
-            };
-            bound(planar, v, a);
-            for i in 2..vmax.len() {
-                bound(largest(&|d| d[i].abs()), vmax[i], amax[i]);
+    Ok(planar_profile(path, &deltas, &vmax, &amax))
+}
+
+/// The exact profile of `path` (segments `deltas`, coordinates `[x, y, c2, …]`), rest to rest
+/// along each run: the planar velocity `(ẋ, ẏ)` by its length under `vmax[0]`, `amax[0]`
+/// (`vmax[1]`, `amax[1]` are not used), every other coordinate `i ≥ 2` under its own limits.
+pub(super) fn planar_profile(
+    path: &[Vec<f64>],
+    deltas: &[Vec<f64>],
+    vmax: &[f64],
+    amax: &[f64],
+) -> TimedPath {
+    profile(path, deltas, &|run: &[(&[f64], f64)], total: f64| {
+        let largest = |f: &dyn Fn(&[f64]) -> f64| {
+            run.iter()
+                .filter(|(_, l)| *l > 0.0)
+                .map(|(d, l)| f(d) / l)
+                .fold(0.0, f64::max)
+        };
+        let (mut speed, mut accel) = (f64::INFINITY, f64::INFINITY);
+        let mut bound = |m: f64, v: f64, a: f64| {
+            if m > 0.0 {
+                speed = speed.min(v / (total * m));
+                accel = accel.min(a / (total * m));
             }
-            (speed, accel)
-        },
-    ))
+        };
+        bound(largest(&|d| d[0].hypot(d[1])), vmax[0], amax[0]);
+        for i in 2..vmax.len() {
+            bound(largest(&|d| d[i].abs()), vmax[i], amax[i]);
+        }
+        (speed, accel)
+    })
 }
 
 #[cfg(test)]
