@@ -8,7 +8,9 @@
 //! A plain `main` (no criterion: it measures accuracy, not time):
 //! `cargo bench --bench fusion`, or in the dev profile `cargo bench --profile dev --bench fusion`.
 //! `KINSCENE_FUSION_SEEDS=N` sets the number of seeds (4 by default), `KINSCENE_FUSION_SIGMAS`
-//! the depth noise levels in mm (comma-separated, `2,5,10` by default).
+//! the depth noise levels in mm (comma-separated, `2,5,10` by default),
+//! `KINSCENE_FUSION_CLASSES` a comma-separated list of parts of the class names to run
+//! (all by default).
 
 #[path = "../tests/articulation/hard.rs"]
 #[allow(dead_code)]
@@ -104,7 +106,11 @@ fn main() {
         "travel err",
         "cov95"
     );
-    for case in hard_cases() {
+    let only = std::env::var("KINSCENE_FUSION_CLASSES").ok();
+    for case in hard_cases().into_iter().filter(|c| {
+        only.as_deref()
+            .is_none_or(|o| o.split(',').any(|w| c.name.contains(w.trim())))
+    }) {
         for &sigma in &sigmas {
             let observations: Vec<_> = seeds.iter().map(|&s| observe(&case, sigma, s)).collect();
             for est in &estimators {

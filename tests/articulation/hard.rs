@@ -1,7 +1,9 @@
 //! The hard classes of articulation estimation, self-contained (the fusion bench includes
 //! this file too): a small door (0.25 m) opened 10°, the same door on a sagging hinge (axis
-//! leaning 4° in the door's plane) opened 15°, and a drawer pulled 12 cm out of a carcass
-//! turned 20°. Clouds are ray-cast partial views with the carcass, a floor and a wall in view;
+//! leaning 4° in the door's plane) opened 15°, a drawer pulled 12 cm out of a carcass turned
+//! 20°, an oven door hinged at the bottom falling 25° toward the robot, a sliding door moved
+//! 20 cm along its own face, and a door opened 20° that the cameras see only in part (not its
+//! hinge edge). Clouds are ray-cast partial views with the carcass, a floor and a wall in view;
 //! the gripper path has 60 poses with 2 mm / 1° noise and a free wrist roll (a random walk
 //! about the approach axis).
 
@@ -182,6 +184,44 @@ fn grasp(f: &Isometry3<f64>, contact: Point3<f64>) -> Isometry3<f64> {
     Isometry3::from_parts(Translation3::from(contact.coords), rotation)
 }
 
+/// A left-hinged door panel filling the carcass's front (`w` × `h`), with a vertical handle
+/// near the free edge at 60 % of the height (label 1), and the grasp point on the handle.
+fn left_door(f: &Isometry3<f64>, w: f64, h: f64) -> (Vec<SyntheticBox>, Point3<f64>) {
+    let part = vec![
+        boxed(
+            f,
+            [w / 2.0, -T / 2.0, h / 2.0],
+            [w / 2.0 - 0.002, T / 2.0, h / 2.0 - 0.002],
+            1,
+        ),
+        boxed(f, [w - 0.04, -T - 0.025, h * 0.6], [0.008, 0.008, 0.05], 1),
+        boxed(
+            f,
+            [w - 0.04, -T - 0.0125, h * 0.6 + 0.04],
+            [0.006, 0.0125, 0.006],
+            1,
+        ),
+        boxed(
+            f,
+            [w - 0.04, -T - 0.0125, h * 0.6 - 0.04],
+            [0.006, 0.0125, 0.006],
+            1,
+        ),
+    ];
+    (part, f * Point3::new(w - 0.04, -T - 0.033, h * 0.6))
+}
+
+/// The revolute truth of a left hinge at the carcass's front-left edge, leaning `lean_deg`
+/// within the door's plane, opened `angle_deg` (the free edge toward the robot).
+fn left_hinge(f: &Isometry3<f64>, lean_deg: f64, angle_deg: f64) -> HardTruth {
+    let lean = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), lean_deg.to_radians());
+    HardTruth::Revolute {
+        axis: Unit::new_normalize(f.rotation * (lean * -Vector3::z())),
+        pivot: f * Point3::new(0.0, -T, 0.0),
+        angle: angle_deg.to_radians(),
+    }
+}
+
 /// A small left-hinged door (0.25 × 0.4 m) with its handle near the free edge, its hinge
 /// leaning `lean_deg` within the door's plane, opened `angle_deg`.
 fn small_door(name: &'static str, lean_deg: f64, angle_deg: f64) -> HardCase {
@@ -189,6 +229,29 @@ fn small_door(name: &'static str, lean_deg: f64, angle_deg: f64) -> HardCase {
     let f = Isometry3::new(Vector3::new(-0.1, 0.0, 0.3), Vector3::zeros());
     let mut statics = carcass(&f, w, d, h);
     statics.push(boxed(&f, [w / 2.0, d / 2.0, -0.15], [0.3, 0.2, 0.15], 0));
+    let (part, contact) = left_door(&f, w, h);
+    HardCase {
+        name,
+        statics,
+        part,
+        truth: left_hinge(&f, lean_deg, angle_deg),
+        contact,
+        grasp: grasp(&f, contact),
+        cameras: cameras(&f, w, h),
+    }
+}
+
+/// An oven (0.6 × 0.5 m front, in a carcass turned −15°, standing on the floor) whose door is
+/// hinged along its bottom front edge and falls toward the robot by 25°, pulled at a
+/// horizontal handle bar near its top.
+fn oven_door() -> HardCase {
+    let (w, d, h) = (0.6, 0.5, 0.5);
+    let f = Isometry3::new(
+        Vector3::new(0.0, 0.1, 0.0),
+        Vector3::z() * -15f64.to_radians(),
+    );
+    let statics = carcass(&f, w, d, h);
+    let hz = h - 0.06;
     let part = vec![
         boxed(
             &f,
@@ -196,35 +259,123 @@ fn small_door(name: &'static str, lean_deg: f64, angle_deg: f64) -> HardCase {
             [w / 2.0 - 0.002, T / 2.0, h / 2.0 - 0.002],
             1,
         ),
-        boxed(&f, [w - 0.04, -T - 0.025, h * 0.6], [0.008, 0.008, 0.05], 1),
+        boxed(&f, [w / 2.0, -T - 0.025, hz], [0.2, 0.008, 0.008], 1),
         boxed(
             &f,
-            [w - 0.04, -T - 0.0125, h * 0.6 + 0.04],
+            [w / 2.0 - 0.18, -T - 0.0125, hz],
             [0.006, 0.0125, 0.006],
             1,
         ),
         boxed(
             &f,
-            [w - 0.04, -T - 0.0125, h * 0.6 - 0.04],
+            [w / 2.0 + 0.18, -T - 0.0125, hz],
             [0.006, 0.0125, 0.006],
             1,
         ),
     ];
-    let contact = f * Point3::new(w - 0.04, -T - 0.033, h * 0.6);
-    let lean = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), lean_deg.to_radians());
-    let truth = HardTruth::Revolute {
-        axis: Unit::new_normalize(f.rotation * (lean * -Vector3::z())),
-        pivot: f * Point3::new(0.0, -T, 0.0),
-        angle: angle_deg.to_radians(),
-    };
+    let contact = f * Point3::new(w / 2.0, -T - 0.033, hz);
     HardCase {
-        name,
+        name: "oven door 25°",
         statics,
         part,
-        truth,
+        // About +x the top (z = h) moves to −y, toward the robot.
+        truth: HardTruth::Revolute {
+            axis: Unit::new_normalize(f.rotation * Vector3::x()),
+            pivot: f * Point3::new(0.0, -T, 0.0),
+            angle: 25f64.to_radians(),
+        },
         contact,
         grasp: grasp(&f, contact),
         cameras: cameras(&f, w, h),
+    }
+}
+
+/// A cupboard (0.8 × 0.5 m front, turned 10°, on a plinth) closed by two sliding panels in
+/// two tracks: the left one fixed in the back track, the right one in the front track slid
+/// 20 cm left along its own face, pulled at a vertical handle near its right edge. The moving
+/// panel stays in its plane, so the clouds' change is only at its edges, the handle and the
+/// interior it uncovers.
+fn sliding_door() -> HardCase {
+    let (w, d, h) = (0.8, 0.4, 0.5);
+    let f = Isometry3::new(
+        Vector3::new(-0.2, 0.0, 0.2),
+        Vector3::z() * 10f64.to_radians(),
+    );
+    let mut statics = carcass(&f, w, d, h);
+    statics.push(boxed(
+        &f,
+        [w / 2.0, d / 2.0, -0.1],
+        [w / 2.0, d / 2.0, 0.1],
+        0,
+    ));
+    let (pw, ph) = (w / 4.0 - 0.002, h / 2.0 - 0.002);
+    statics.push(boxed(
+        &f,
+        [w / 4.0, -T / 2.0, h / 2.0],
+        [pw, T / 2.0, ph],
+        0,
+    ));
+    let (hx, hz) = (w - 0.05, h / 2.0);
+    let part = vec![
+        boxed(&f, [3.0 * w / 4.0, -1.5 * T, h / 2.0], [pw, T / 2.0, ph], 1),
+        boxed(&f, [hx, -2.0 * T - 0.025, hz], [0.008, 0.008, 0.05], 1),
+        boxed(
+            &f,
+            [hx, -2.0 * T - 0.0125, hz + 0.04],
+            [0.006, 0.0125, 0.006],
+            1,
+        ),
+        boxed(
+            &f,
+            [hx, -2.0 * T - 0.0125, hz - 0.04],
+            [0.006, 0.0125, 0.006],
+            1,
+        ),
+    ];
+    let contact = f * Point3::new(hx, -2.0 * T - 0.033, hz);
+    HardCase {
+        name: "sliding door 20 cm",
+        statics,
+        part,
+        truth: HardTruth::Prismatic {
+            axis: Unit::new_normalize(f.rotation * -Vector3::x()),
+            distance: 0.2,
+        },
+        contact,
+        grasp: grasp(&f, contact),
+        cameras: cameras(&f, w, h),
+    }
+}
+
+/// A left-hinged door (0.45 × 0.7 m, carcass turned −10°, on the floor) opened 20°, seen
+/// partially: narrow cameras (40°) 0.6 m away aimed at the free edge see the handle half of
+/// the door, the carcass's right side, the floor and the wall, but not the hinge edge.
+fn partial_view_door() -> HardCase {
+    let (w, d, h) = (0.45, 0.5, 0.7);
+    let f = Isometry3::new(
+        Vector3::new(0.0, 0.0, 0.0),
+        Vector3::z() * -10f64.to_radians(),
+    );
+    let statics = carcass(&f, w, d, h);
+    let (part, contact) = left_door(&f, w, h);
+    let target = f * Point3::new(w, 0.0, 0.3 * h);
+    let cam = |x: f64, y: f64, z: f64| DepthCamera {
+        origin: f * Point3::new(w + x, y, 0.3 * h + z),
+        target,
+        up: Vector3::z(),
+        horizontal_fov: 40f64.to_radians(),
+        width: 200,
+        height: 150,
+        max_range: 4.0,
+    };
+    HardCase {
+        name: "partial view door 20°",
+        statics,
+        part,
+        truth: left_hinge(&f, 0.0, 20.0),
+        contact,
+        grasp: grasp(&f, contact),
+        cameras: (cam(0.0, -0.6, 0.3), cam(0.08, -0.65, 0.32)),
     }
 }
 
@@ -289,6 +440,9 @@ pub fn hard_cases() -> Vec<HardCase> {
         small_door("small door 10°", 0.0, 10.0),
         small_door("sagging small door 15°", 4.0, 15.0),
         rotated_drawer(),
+        oven_door(),
+        sliding_door(),
+        partial_view_door(),
     ]
 }
 
