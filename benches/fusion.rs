@@ -10,7 +10,8 @@
 //! `KINSCENE_FUSION_SEEDS=N` sets the number of seeds (4 by default), `KINSCENE_FUSION_SIGMAS`
 //! the depth noise levels in mm (comma-separated, `2,5,10` by default),
 //! `KINSCENE_FUSION_CLASSES` a comma-separated list of parts of the class names to run
-//! (all by default).
+//! (all by default); with `KINSCENE_FUSION_DETAILS` set, the details of every estimate of
+//! the wrong type go to stderr.
 
 #[path = "../tests/articulation/hard.rs"]
 #[allow(dead_code)]
@@ -107,6 +108,7 @@ fn main() {
         "cov95"
     );
     let only = std::env::var("KINSCENE_FUSION_CLASSES").ok();
+    let details = std::env::var("KINSCENE_FUSION_DETAILS").is_ok();
     for case in hard_cases().into_iter().filter(|c| {
         only.as_deref()
             .is_none_or(|o| o.split(',').any(|w| c.name.contains(w.trim())))
@@ -116,7 +118,20 @@ fn main() {
             for est in &estimators {
                 let rows: Vec<Row> = observations
                     .iter()
-                    .map(|o| score(&case.truth, &est.estimate(&o.interaction()).expect("valid")))
+                    .zip(&seeds)
+                    .map(|(o, seed)| {
+                        let e = est.estimate(&o.interaction()).expect("valid");
+                        let row = score(&case.truth, &e);
+                        if !row.kind_ok && details {
+                            eprintln!(
+                                "{} σ {sigma} seed {seed} {}: {}",
+                                case.name,
+                                est.name(),
+                                e.details
+                            );
+                        }
+                        row
+                    })
                     .collect();
                 let ok: Vec<&Row> = rows.iter().filter(|r| r.kind_ok).collect();
                 let axes: Vec<f64> = ok.iter().map(|r| r.axis).collect();

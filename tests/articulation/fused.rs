@@ -1,4 +1,5 @@
-//! The fused estimator on the hard classes (`hard.rs`): at least as good as the better single
+//! The fused estimator on the hard classes (`hard.rs`: small and sagging doors, a drawer in a
+//! turned carcass, an oven door, a sliding door, a partly seen door): at least as good as the better single
 //! source, the right type, nothing NaN; the 95 % regions' coverage reported; one source alone
 //! reduces it to that source's estimator; settings are validated.
 
@@ -9,13 +10,13 @@ use kinscene::articulation::{Fused, FusedSettings};
 
 /// Over 3 seeds at σ = 5 mm on `case`: the fused estimate has the right type every time, a
 /// finite score and uncertainty, a mean axis error at most the better single source's (mean
-/// over the same seeds) plus 0.2°, and mean axis and pivot errors at most the two-view's.
-/// Returns the fused estimates' mean signed travel error (rad or m) and how many of the 3
-/// 95 % regions contain the truth.
+/// over the same seeds) plus 0.2°, and mean axis and pivot errors at most the two-view's (the
+/// pivot's plus `pivot_slack`, m).
+/// Returns the fused estimates' mean signed travel error, worst errors and coverage.
 /// Measured (not asserted, it does not hold): the fused mean pivot error is up to 1 cm above
 /// the proprioceptive one on the small door opened 10°, where the clouds still pull the
 /// angle low (≈ 0.8°).
-fn fused_on(case_index: usize) -> (f64, usize) {
+fn fused_on(case_index: usize, pivot_slack: f64) -> FusedRun {
     let case = &hard_cases()[case_index];
     let seeds = [1u64, 2, 3];
     let estimators: [Box<dyn ArticulationEstimator>; 3] = [
@@ -26,6 +27,7 @@ fn fused_on(case_index: usize) -> (f64, usize) {
     let mut sums = [[0.0f64; 2]; 3];
     let mut covered = 0;
     let mut travel = 0.0;
+    let (mut worst_axis, mut worst_pivot) = (0.0f64, 0.0f64);
     for &seed in &seeds {
         let o = observe(case, 0.005, seed);
         for (k, est) in estimators.iter().enumerate() {
@@ -55,6 +57,8 @@ fn fused_on(case_index: usize) -> (f64, usize) {
                 assert!(u.axis_half_angle_95().is_finite(), "{ctx}");
                 assert!(u.type_probability.is_finite(), "{ctx}");
                 covered += usize::from(inside);
+                worst_axis = worst_axis.max(axis);
+                worst_pivot = worst_pivot.max(pivot);
                 travel += match (&e.joint, case.truth) {
                     (JointEstimate::Revolute { angle, .. }, Truth::Revolute { angle: a, .. }) => {
                         angle - a
@@ -91,16 +95,33 @@ fn fused_on(case_index: usize) -> (f64, usize) {
         case.name
     );
     assert!(
-        mean(2, 1) <= mean(0, 1),
+        mean(2, 1) <= mean(0, 1) + pivot_slack,
         "{}: pivot against two-view",
         case.name
     );
-    (travel / n, covered)
+    FusedRun {
+        travel: travel / n,
+        covered,
+        worst_axis_deg: worst_axis,
+        worst_pivot_m: worst_pivot,
+    }
+}
+
+/// The fused estimates of [`fused_on`]'s 3 seeds.
+struct FusedRun {
+    /// Mean signed travel error (rad or m).
+    travel: f64,
+    /// How many of the 3 95 % regions contain the truth.
+    covered: usize,
+    /// The largest axis error (°).
+    worst_axis_deg: f64,
+    /// The largest pivot error (m; 0 for prismatic joints).
+    worst_pivot_m: f64,
 }
 
 #[test]
 fn fused_small_door() {
-    fused_on(0);
+    fused_on(0, 0.0);
 }
 
 /// The sagging door (15°): besides [`fused_on`]'s checks, the swept angle is not pulled low
@@ -109,7 +130,9 @@ fn fused_small_door() {
 /// truth in at least 2 of the 3 seeds (0 of 3 before the sandwich covariance).
 #[test]
 fn fused_sagging_door() {
-    let (travel, covered) = fused_on(1);
+    let FusedRun {
+        travel, covered, ..
+    } = fused_on(1, 0.0);
     assert!(travel.to_degrees().abs() <= 0.6, "{}°", travel.to_degrees());
     assert!(covered >= 2, "{covered}/3");
 }
@@ -118,9 +141,120 @@ fn fused_sagging_door() {
 /// on average and every 95 % region containing the truth.
 #[test]
 fn fused_rotated_drawer() {
-    let (travel, covered) = fused_on(2);
+    let FusedRun {
+        travel, covered, ..
+    } = fused_on(2, 0.0);
     assert!(travel.abs() <= 0.005, "{travel} m");
     assert_eq!(covered, 3);
+}
+
+/// The oven door hinged at the bottom (falling 25° toward the robot): besides [`fused_on`]'s
+/// checks, every axis error within 1°, pivot within 1 cm, the swept angle within ±0.3° on
+/// average and at least 2 of the 3 95 % regions containing the truth.
+/// Measured (seeds 1–3): worst axis 0.30°, worst pivot 4.2 mm, mean travel +0.01°, 2 of 3
+/// covered.
+#[test]
+fn fused_oven_door() {
+    let r = fused_on(3, 0.0);
+    eprintln!(
+        "oven: worst {:.2}° {:.4} m, travel {:.3}°, covered {}",
+        r.worst_axis_deg,
+        r.worst_pivot_m,
+        r.travel.to_degrees(),
+        r.covered
+    );
+    assert!(r.worst_axis_deg <= 1.0, "{}°", r.worst_axis_deg);
+    assert!(r.worst_pivot_m <= 0.01, "{} m", r.worst_pivot_m);
+    assert!(
+        r.travel.to_degrees().abs() <= 0.3,
+        "{}°",
+        r.travel.to_degrees()
+    );
+    assert!(r.covered >= 2, "{}/3", r.covered);
+}
+
+/// The sliding door moved 20 cm along its own face (the clouds see little change): besides
+/// [`fused_on`]'s checks, every axis error within 1.2°, the pulled distance within ±5 mm on
+/// average and at least 2 of the 3 95 % regions containing the truth.
+/// Measured (seeds 1–3): worst axis 0.71°, mean distance +0.4 mm, 2 of 3 covered.
+#[test]
+fn fused_sliding_door() {
+    let r = fused_on(4, 0.0);
+    eprintln!(
+        "sliding: worst {:.2}° travel {:.4} m, covered {}",
+        r.worst_axis_deg, r.travel, r.covered
+    );
+    assert!(r.worst_axis_deg <= 1.2, "{}°", r.worst_axis_deg);
+    assert!(r.travel.abs() <= 0.005, "{} m", r.travel);
+    assert!(r.covered >= 2, "{}/3", r.covered);
+}
+
+/// The door seen only in part (its hinge edge out of view, carcass, floor and wall in view):
+/// besides [`fused_on`]'s checks, every axis error within 2°, pivot within 2 cm, the swept
+/// angle within ±0.6° on average and at least 2 of the 3 95 % regions containing the truth.
+/// Measured (seeds 1–3): worst axis 1.04°, worst pivot 4.9 mm, mean travel −0.07°, 3 of 3
+/// covered.
+#[test]
+fn fused_partial_view_door() {
+    // The two-view pivot is the better one here (1.8 mm against 3.6 mm, mean of seeds 1–3),
+    // its axis the worse (2.4° against 0.85°): 4 mm of slack.
+    let r = fused_on(5, 0.004);
+    eprintln!(
+        "partial: worst {:.2}° {:.4} m, travel {:.3}°, covered {}",
+        r.worst_axis_deg,
+        r.worst_pivot_m,
+        r.travel.to_degrees(),
+        r.covered
+    );
+    assert!(r.worst_axis_deg <= 2.0, "{}°", r.worst_axis_deg);
+    assert!(r.worst_pivot_m <= 0.02, "{} m", r.worst_pivot_m);
+    assert!(
+        r.travel.to_degrees().abs() <= 0.6,
+        "{}°",
+        r.travel.to_degrees()
+    );
+    assert!(r.covered >= 2, "{}/3", r.covered);
+}
+
+/// The sliding door at σ = 2 mm, seed 6: the revolute fit bends the 20 cm pull into an arc of
+/// radius ≈ 21 m (0.53°) that fits the clouds' edges better than the translation and wins on
+/// BIC when it may compete; with the default `max_revolute_radius` (2 m) it is a translation
+/// and the type is right.
+#[test]
+fn fused_wide_revolute_is_a_translation() {
+    let case = &hard_cases()[4];
+    let o = observe(case, 0.002, 6);
+    let mut settings = FusedSettings {
+        max_revolute_radius: 1e9,
+        ..Default::default()
+    };
+    let unbounded = Fused {
+        settings: settings.clone(),
+    }
+    .estimate(&o.interaction())
+    .unwrap();
+    let JointEstimate::Revolute { angle, .. } = unbounded.joint else {
+        panic!(
+            "the premise: without the bound this case is revolute: {}",
+            unbounded.details
+        )
+    };
+    assert!(angle < 1f64.to_radians(), "{angle}");
+    settings.max_revolute_radius = 2.0;
+    let bounded = Fused { settings }.estimate(&o.interaction()).unwrap();
+    assert_eq!(
+        bounded.joint.kind(),
+        JointKindEstimate::Prismatic,
+        "{}",
+        bounded.details
+    );
+    assert!(
+        bounded.details.contains("counts as a translation"),
+        "{}",
+        bounded.details
+    );
+    let r = case.truth.errors(&bounded);
+    assert!(r.axis_deg < 1.0, "{}°", r.axis_deg);
 }
 
 /// With no poses the fused estimate is the two-view one; with empty clouds it is the
@@ -165,6 +299,11 @@ fn fused_settings_are_validated() {
         ..Default::default()
     });
     assert!(msg.contains("lm_iterations"), "{msg}");
+    let msg = bad(FusedSettings {
+        max_revolute_radius: 0.0,
+        ..Default::default()
+    });
+    assert!(msg.contains("max_revolute_radius"), "{msg}");
     let mut settings = FusedSettings::default();
     settings.two_view.trim_fraction = 0.0;
     assert!(bad(settings).contains("trim_fraction"));

@@ -71,7 +71,9 @@ use super::uncertainty::{PlaneCovariance, Uncertainty, bic_probability, tangent_
 ///    `pose_outlier_chi2`), `k` = 9 revolute, 7 prismatic, `n = n_eff + 4 · poses`, `ĉ ≥ 1`
 ///    the winner's variance factor (its reduced χ²: a quasi-likelihood, so that noise the
 ///    estimated levels understate does not make the type overconfident). The type
-///    probability is BIC's posterior; a near tie is near ½, which the keep-pulling loop of
+///    probability is BIC's posterior (a revolute fit whose path radius exceeds
+///    `max_revolute_radius` does not compete with a prismatic one: it is a translation the
+///    clouds' noise bent); a near tie is near ½, which the keep-pulling loop of
 ///    discovery treats as ambiguous (below its `confident_type_probability`).
 /// 6. **Uncertainty.** The covariance of the fit (`covariance.rs`): the larger, in every
 ///    direction, of the Gauss–Newton one scaled by `ĉ` and the cluster-robust sandwich over
@@ -115,18 +117,7 @@ fn estimate(s: &FusedSettings, i: &Interaction<'_>) -> Result<Estimate, Articula
         return Ok(alone(two_view, "too few end-effector poses"));
     }
     // 2. Noise.
-    let (sigma_p, sigma_o) = path_noise(i.ee_poses).map_or(
-        (
-            s.proprioceptive.position_sigma,
-            s.proprioceptive.orientation_sigma,
-        ),
-        |n| {
-            (
-                n.position.max(MIN_POSITION_SIGMA),
-                n.orientation.max(MIN_ORIENTATION_SIGMA),
-            )
-        },
-    );
+    let (sigma_p, sigma_o) = pose_noise(s, i);
     let sigma_d = depth_sigma(&evidence.part, s.plane_radius)
         .unwrap_or(evidence.tau / 4.0)
         .max(s.min_depth_sigma);
@@ -170,10 +161,11 @@ fn estimate(s: &FusedSettings, i: &Interaction<'_>) -> Result<Estimate, Articula
         contact_pre: i.contact_pre,
         contact_post: i.contact_post,
     };
-    let fits: Vec<(State, f64)> = [start::revolute(&sources), start::prismatic(&sources)]
+    let mut fits: Vec<(State, f64)> = [start::revolute(&sources), start::prismatic(&sources)]
         .into_iter()
         .filter_map(|starts| best_fit(&ctx, starts))
         .collect();
+    let wide = drop_wide_revolute(&mut fits, s.max_revolute_radius);
     // 5. Type, with 6. the uncertainty's variance factor.
     let n_obs = evidence.n_eff + 4.0 * poses.len() as f64;
     let bic =
@@ -202,7 +194,7 @@ fn estimate(s: &FusedSettings, i: &Interaction<'_>) -> Result<Estimate, Articula
     let details = format!(
         "fused: {}; depth sigma {sigma_d:.4} m, pose sigma {sigma_p:.4} m / {sigma_o:.4} rad, \
          n_eff {:.0}, {} poses; BIC {} (revolute first, variance factor {c_hat:.2}); \
-         explained {explained:.3}; two-view: {:?}; proprioceptive: {:?}",
+         explained {explained:.3}; two-view: {:?}; proprioceptive: {:?}{}",
         terms_of(&ctx, &fits),
         evidence.n_eff,
         poses.len(),
@@ -212,6 +204,7 @@ fn estimate(s: &FusedSettings, i: &Interaction<'_>) -> Result<Estimate, Articula
             .join(" / "),
         two_view.joint.kind(),
         proprioceptive.joint.kind(),
+        wide,
     );
     Ok(Estimate {
         joint,
@@ -221,6 +214,44 @@ fn estimate(s: &FusedSettings, i: &Interaction<'_>) -> Result<Estimate, Articula
         details,
         uncertainty,
     })
+}
+
+/// The pose noise (σ_p m, σ_o rad) from the path's smoothness, floored; the proprioceptive
+/// settings' values for paths too short.
+fn pose_noise(s: &FusedSettings, i: &Interaction<'_>) -> (f64, f64) {
+    path_noise(i.ee_poses).map_or(
+        (
+            s.proprioceptive.position_sigma,
+            s.proprioceptive.orientation_sigma,
+        ),
+        |n| {
+            (
+                n.position.max(MIN_POSITION_SIGMA),
+                n.orientation.max(MIN_ORIENTATION_SIGMA),
+            )
+        },
+    )
+}
+
+/// Drops a revolute fit whose path radius exceeds `max_radius` when another fit remains;
+/// returns the note for the details (empty when none was dropped).
+fn drop_wide_revolute(fits: &mut Vec<(State, f64)>, max_radius: f64) -> String {
+    let too_wide = |st: &State| st.kind == Kind::Revolute && st.travel_scale() > max_radius;
+    if fits.len() < 2 {
+        return String::new();
+    }
+    let note = fits
+        .iter()
+        .find(|(st, _)| too_wide(st))
+        .map_or(String::new(), |(st, _)| {
+            format!(
+                "; a revolute fit of path radius {:.2} m (above {max_radius:.2} m) counts as a \
+             translation",
+                st.travel_scale()
+            )
+        });
+    fits.retain(|(st, _)| !too_wide(st));
+    note
 }
 
 /// BIC's posterior probability of model `best` against the best of the others.

@@ -31,6 +31,12 @@ pub struct FusedSettings {
     /// Whether the travel the path swept (from its first to its last poses) is tied to the
     /// travel the clouds show: true when the poses were recorded between the two observations.
     pub couple_travel: bool,
+    /// The largest circle radius (m) of the gripper's path that a revolute fit may have
+    /// while a prismatic fit exists: a rotation about an axis this far from the grasp is a
+    /// translation to within the sensors' resolution (over a 20 cm pull at 20 m the arc
+    /// leaves its chord by 0.25 mm), and no door or lid of a household scene is that wide;
+    /// such a fit's better cost is the clouds' noise, not a hinge.
+    pub max_revolute_radius: f64,
 }
 
 impl Default for FusedSettings {
@@ -44,6 +50,7 @@ impl Default for FusedSettings {
             lm_iterations: 12,
             pose_outlier_chi2: 25.0,
             couple_travel: true,
+            max_revolute_radius: 2.0,
         }
     }
 }
@@ -60,6 +67,7 @@ impl FusedSettings {
             ("plane_radius", self.plane_radius),
             ("min_depth_sigma", self.min_depth_sigma),
             ("pose_outlier_chi2", self.pose_outlier_chi2),
+            ("max_revolute_radius", self.max_revolute_radius),
         ] {
             if !(value.is_finite() && value > 0.0) {
                 return Err(InvalidSetting::new(name, value, "finite and > 0").into());
