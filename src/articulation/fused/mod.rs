@@ -134,6 +134,7 @@ fn estimate(s: &FusedSettings, i: &Interaction<'_>) -> Result<Estimate, Articula
     let tree = KdTree::new(post);
     let normals = NormalCache::new(post, &tree, s.two_view.neighbor_radius * 1.2);
     let n_sample = evidence.sample.len().max(1) as f64;
+    let pair_gate = 3.0 * std::f64::consts::SQRT_2 * sigma_d;
 
     let ctx = Context {
         settings: s,
@@ -145,7 +146,7 @@ fn estimate(s: &FusedSettings, i: &Interaction<'_>) -> Result<Estimate, Articula
         normals: &normals,
         tau: evidence.tau,
         cloud_weight: evidence.n_eff / (n_sample * 2.0 * sigma_d * sigma_d),
-        pair_gate: 3.0 * std::f64::consts::SQRT_2 * sigma_d,
+        pair_gate,
         poses: &poses,
         sigma_p,
         sigma_o,
@@ -192,10 +193,11 @@ fn estimate(s: &FusedSettings, i: &Interaction<'_>) -> Result<Estimate, Articula
     });
     let explained = explained_fraction(&ctx, &state, &evidence);
     let details = format!(
-        "fused: {}; depth sigma {sigma_d:.4} m, pose sigma {sigma_p:.4} m / {sigma_o:.4} rad, \
-         n_eff {:.0}, {} poses; BIC {} (revolute first, variance factor {c_hat:.2}); \
-         explained {explained:.3}; two-view: {:?}; proprioceptive: {:?}{}",
+        "fused: {}; depth sigma {sigma_d:.4} m (gate {pair_gate:.4} m, τ {:.4} m), \
+         pose sigma {sigma_p:.4} m / {sigma_o:.4} rad, n_eff {:.0}, {} poses; \
+         BIC {} (revolute first, variance factor {c_hat:.2}); explained {explained:.3}; two-view: {:?}; proprioceptive: {:?}{}",
         terms_of(&ctx, &fits),
+        evidence.tau,
         evidence.n_eff,
         poses.len(),
         bics.iter()
