@@ -195,7 +195,8 @@ fn estimate(s: &FusedSettings, i: &Interaction<'_>) -> Result<Estimate, Articula
     let details = format!(
         "fused: {}; depth sigma {sigma_d:.4} m (gate {pair_gate:.4} m, τ {:.4} m), \
          pose sigma {sigma_p:.4} m / {sigma_o:.4} rad, n_eff {:.0}, {} poses; \
-         BIC {} (revolute first, variance factor {c_hat:.2}); explained {explained:.3}; two-view: {:?}; proprioceptive: {:?}{}",
+         BIC {} (revolute first, variance factor {c_hat:.2}); explained {explained:.3}; \
+         two-view: {:?}; proprioceptive: {:?}{}",
         terms_of(&ctx, &fits),
         evidence.tau,
         evidence.n_eff,
