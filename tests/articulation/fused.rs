@@ -1,7 +1,7 @@
 //! The fused estimator on the hard classes (`hard.rs`: small and sagging doors, a drawer in a
-//! turned carcass, an oven door, a sliding door, a partly seen door): at least as good as the better single
-//! source, the right type, nothing NaN; the 95 % regions' coverage reported; one source alone
-//! reduces it to that source's estimator; settings are validated.
+//! turned carcass, an oven door, a sliding door, a partly seen door): at least as good as the
+//! better single source, the right type, nothing NaN; the 95 % regions' coverage reported; one
+//! source alone reduces it to that source's estimator; settings are validated.
 
 use super::hard::{hard_cases, observe};
 use super::*;
