@@ -1,8 +1,11 @@
 //! MotionBenchMaker on the Panda (VAMP's 700 problems: 7 scene families × 100), planned with
-//! the crate's public arm planner ([`plan_arm`], OMPL RRTConnect) three times from the same
+//! the crate's public arm planner ([`plan_arm`], OMPL RRTConnect) in six modes from the same
 //! run: validity by the exact parry check, by the sphere fast path ([`RobotSpheres`] against
 //! [`SphereObstacles`], exact fallback), both with OMPL's discrete motion check, and the fast
-//! path with certified edges ([`ArmEdgeCheck`] through [`plan_arm_with_motion`]). Prints the
+//! path with certified edges ([`ArmEdgeCheck`] through [`plan_arm_with_motion`]), and
+//! [`ArmCheck`] with OMPL's full simplifier, with [`Simplifier::Shortcut`], and with the
+//! shortcut simplifier and [`ArmCheck::with_spans`] off (every state of a motion evaluated,
+//! the same answers: the spans' saving from the same run). Prints the
 //! success rate, the median and p95 planning time (wall clock, planning plus simplification)
 //! and the ratio of the medians.
 //!
@@ -56,8 +59,9 @@ use serde::Deserialize;
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 
 /// Planning modes: exact, sphere fast path, certified edges, [`ArmCheck`] with OMPL's full
-/// simplifier and with [`Simplifier::Shortcut`].
-const MODES: usize = 5;
+/// simplifier and with [`Simplifier::Shortcut`], and the latter evaluating every state of a
+/// motion ([`ArmCheck::with_spans`] off, for the spans' saving).
+const MODES: usize = 6;
 
 #[derive(Deserialize)]
 struct Problem {
@@ -225,6 +229,8 @@ fn main() {
     let with_certified = !std::env::args().any(|a| a == "no-certified");
     let with_fast = !std::env::args().any(|a| a == "no-fast");
     let profile = std::env::args().any(|a| a == "profile");
+    // `no-spans`: the two `ArmCheck` modes evaluate every state too (a cross-check).
+    let no_spans = std::env::args().any(|a| a == "no-spans");
     let mut profiles: Vec<Profile> = Vec::new();
     let mut problems = problems();
     let mut taken = std::collections::BTreeMap::<String, usize>::new();
@@ -328,24 +334,50 @@ fn main() {
             },
             [0.0; 3],
         )
-        .expect("arm check");
+        .expect("arm check")
+        .with_spans(!no_spans);
+        let dense = ArmCheck::new(
+            &robot,
+            &collision,
+            &spheres,
+            EdgeScene {
+                model: &model,
+                data: &data,
+                exempt: Exempt::Nothing,
+                margin: 0.0,
+            },
+            [0.0; 3],
+        )
+        .expect("arm check")
+        .with_spans(false);
         let arm_valid = |q: &[f64]| arm.is_valid(q);
         let arm_motion = |a: &[f64], b: &[f64]| arm.check_motion(a, b, settings.resolution);
+        let dense_valid = |q: &[f64]| dense.is_valid(q);
+        let dense_motion = |a: &[f64], b: &[f64]| dense.check_motion(a, b, settings.resolution);
         let modes: [(&Checker<'_>, Option<&MotionCheck<'_>>, &PathSettings); MODES] = [
             (&exact, None, &settings),
             (&fast, None, &settings),
             (&fast, Some(&certified), &settings),
             (&arm_valid, Some(&arm_motion), &settings),
             (&arm_valid, Some(&arm_motion), &shortcut),
+            (&dense_valid, Some(&dense_motion), &shortcut),
         ];
         if profile {
             let settings_off = PathSettings {
                 simplify: false,
                 ..settings.clone()
             };
-            for (k, name) in [(1, "fast"), (3, "arm"), (4, "arm shortcut")] {
+            for (k, name) in [
+                (1, "fast"),
+                (3, "arm"),
+                (4, "arm shortcut"),
+                (5, "dense shortcut"),
+            ] {
+                if k == 1 && !with_fast {
+                    continue;
+                }
                 let (check, motion, s) = modes[k];
-                let runs: &[(bool, &PathSettings)] = if k == 4 {
+                let runs: &[(bool, &PathSettings)] = if k >= 4 {
                     &[(true, s)]
                 } else {
                     &[(true, s), (false, &settings_off)]
@@ -412,6 +444,7 @@ fn main() {
         "fast path, certified edges",
         "ArmCheck, motions in Rust",
         "ArmCheck, shortcut simplifier",
+        "shortcut, no spans",
     ];
     for (name, stat) in names.iter().zip(&mut stats) {
         if stat.times.is_empty() {
@@ -435,14 +468,16 @@ fn main() {
     println!(
         "median ratios against ArmCheck (full simplifier): exact {:.2}, fast path {:.2}, \
          certified {:.2}, ArmCheck with shortcut simplifier {:.2}; against the fast path: \
-         ArmCheck {:.2}, ArmCheck with shortcut {:.2} (0 where a mode was skipped; targets: 100 % of \
-         solvable, median <= 1 ms, p95 <= 20 ms)",
+         ArmCheck {:.2}, ArmCheck with shortcut {:.2}; shortcut without spans against with \
+         them {:.2} (0 where a mode was skipped; targets: 100 % of solvable, median <= 1 ms, \
+         p95 <= 20 ms)",
         ratio(0, 3),
         ratio(1, 3),
         ratio(2, 3),
         ratio(4, 3),
         ratio(3, 1),
-        ratio(4, 1)
+        ratio(4, 1),
+        ratio(5, 4)
     );
 }
 
@@ -507,7 +542,7 @@ fn profile_one(
 
 /// Medians per mode, with and without simplification, over the problems both solved.
 fn report_profiles(profiles: &[Profile]) {
-    for mode in ["fast", "arm", "arm shortcut"] {
+    for mode in ["fast", "arm", "arm shortcut", "dense shortcut"] {
         for simplified in [true, false] {
             let mut rows: Vec<&Profile> = profiles
                 .iter()

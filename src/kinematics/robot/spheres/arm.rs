@@ -32,6 +32,8 @@ use super::{EdgeScene, RobotSpheres, SphereData, SphereObstacles};
 use crate::kinematics::robot::collision::PlacedScene;
 use crate::kinematics::robot::{ArmJoint, ArmJointKind, RobotCollision, RobotError, RobotModel};
 
+mod span;
+
 /// The arm's validity against one scene state at a fixed base pose: the exact answer with the
 /// sphere model as broad phase (see the module's answer). Built once per scene state and base
 /// pose ([`ArmCheck::new`] places the scene and packs the obstacles); `Send + Sync`.
@@ -55,6 +57,8 @@ pub struct ArmCheck<'a> {
     /// Per link `l`, the joints that move it in the world with their lever arms (the levers
     /// of the pair `(0, l)`: the base does not move).
     link_levers: Vec<Vec<(usize, f64)>>,
+    /// Whether a motion check skips the states certified free by a checked state's span.
+    spans: bool,
 }
 
 impl std::fmt::Debug for ArmCheck<'_> {
@@ -170,7 +174,17 @@ impl<'a> ArmCheck<'a> {
                 .map(|&(i, k)| levers(robot, spheres, i, k))
                 .collect(),
             link_levers: (0..links).map(|l| levers(robot, spheres, 0, l)).collect(),
+            spans: true,
         })
+    }
+
+    /// With `false`, [`ArmCheck::check_motion`] evaluates every state it visits instead of
+    /// skipping the states certified free around each free state it evaluated (the default,
+    /// `true`; see `span` in the module's source). The answers are the same; the setting
+    /// exists to measure what the spans save.
+    pub fn with_spans(mut self, spans: bool) -> Self {
+        self.spans = spans;
+        self
     }
 
     /// Whether arm configuration `q` is free (see the module's answer), with per-thread
@@ -193,7 +207,11 @@ impl<'a> ArmCheck<'a> {
     /// `0 < j < n`, `n = ⌈‖b − a‖ / resolution⌉` (consecutive states at most `resolution`
     /// apart in the Euclidean norm of the joint values), visited in bisection order (the
     /// middle first, as OMPL's discrete motion validator) so that a blocked motion is
-    /// rejected early. `a` itself is taken as valid, as a planner's motion check takes it.
+    /// rejected early. States within the certified span of a state found free are not
+    /// evaluated: its sphere clearances and distance bounds, over the most the links can move,
+    /// prove them free (see `span` in the module's source; [`ArmCheck::with_spans`]), so the
+    /// answer is still that of checking every state. `a` itself is taken as valid, as a
+    /// planner's motion check takes it.
     /// `false` for configurations of different or wrong lengths, non-finite values, or a
     /// `resolution` that is not positive and finite. Like any discrete check it can miss an
     /// obstacle thinner than the motion of the robot between two states.
@@ -251,8 +269,13 @@ impl<'a> ArmCheck<'a> {
         // `as` saturates for absurdly fine resolutions.
         let n = ((length / resolution).ceil() as usize).max(1);
         data.queue.clear();
-        if n > 1 {
-            data.queue.push_back((1, n - 1));
+        // States within the certified span of a free state need no check (see `span`).
+        let mut hi = n - 1;
+        if n > 1 && self.spans {
+            hi -= self.span_steps(1.0, n, &data.state).min(n - 1);
+        }
+        if hi >= 1 {
+            data.queue.push_back((1, hi));
         }
         while let Some((lo, hi)) = data.queue.pop_front() {
             let mid = lo + (hi - lo) / 2;
@@ -262,11 +285,16 @@ impl<'a> ArmCheck<'a> {
             if !self.state_valid(&data.q, Some(t), &mut data.state) {
                 return false;
             }
-            if lo < mid {
-                data.queue.push_back((lo, mid - 1));
+            let k = if self.spans {
+                self.span_steps(t, n, &data.state)
+            } else {
+                0
+            };
+            if lo.saturating_add(k) < mid {
+                data.queue.push_back((lo, mid - 1 - k));
             }
-            if mid < hi {
-                data.queue.push_back((mid + 1, hi));
+            if mid.saturating_add(k) < hi {
+                data.queue.push_back((mid + 1 + k, hi));
             }
         }
         true
@@ -288,8 +316,10 @@ impl<'a> ArmCheck<'a> {
         self.broad_phase(s);
         let scene_free = (0..s.links.len()).all(|m| self.link_free(m, at, s));
         let free = scene_free && (0..s.pairs.len()).all(|k| self.pair_free(s.pairs[k], at, s));
+        // `last_valid` also names the configuration the scratch's poses and spheres are of
+        // (`span` reads them): cleared when another configuration overwrote them.
+        s.last_valid.clear();
         if free {
-            s.last_valid.clear();
             s.last_valid.extend_from_slice(q);
         }
         free

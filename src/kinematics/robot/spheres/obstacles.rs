@@ -220,6 +220,73 @@ impl SphereObstacles {
     }
 }
 
+impl SphereObstacles {
+    /// A lower bound (m) on the distance from the ball at `center` (world) of radius `radius`
+    /// to every obstacle, none exempt (so also a bound for any sphere inside the ball,
+    /// whatever its kind): as [`SphereObstacles::clearances`] for one sphere.
+    pub(super) fn ball_clearance(&self, center: [f32; 3], radius: f32) -> f32 {
+        let p = center.map(f32x8::splat);
+        let zero = f32x8::splat(0.0);
+        let mut least = f32x8::splat(f32::INFINITY);
+        // Set 0 (neither base link nor contact shape) exempts nothing: every obstacle.
+        for b in &self.sets[0] {
+            let d = [p[0] - b.center[0], p[1] - b.center[1], p[2] - b.center[2]];
+            let mut dist2 = zero;
+            for k in 0..3 {
+                let along = b.axes[k][0] * d[0] + b.axes[k][1] * d[1] + b.axes[k][2] * d[2];
+                let outside = (along.abs() - b.half[k]).max(zero);
+                dist2 += outside * outside;
+            }
+            least = least.min(dist2.sqrt() - b.reach);
+        }
+        least.to_array().into_iter().fold(f32::INFINITY, f32::min) - radius
+    }
+
+    /// A lower bound (m) on the distance from every sphere of link `l` in `spheres` to the
+    /// obstacles it is tested against, leaving out the obstacles `k` with `skip[k]` set (the
+    /// order of [`SphereObstacles::new`]; a shorter `skip` leaves out none beyond its end):
+    /// as [`SphereObstacles::clearances`], the least over the link's spheres. `f32::INFINITY`
+    /// for a link without spheres or when every obstacle is left out.
+    pub(super) fn link_clearance(&self, spheres: &SphereData, l: usize, skip: &[bool]) -> f32 {
+        let Some(&(start, n)) = spheres.links.get(l) else {
+            return f32::INFINITY;
+        };
+        let zero = f32x8::splat(0.0);
+        let mut best = f32::INFINITY;
+        for s in start..start + n {
+            let kind = usize::from(spheres.kind[s] & 3);
+            let p = [
+                f32x8::splat(spheres.x[s]),
+                f32x8::splat(spheres.y[s]),
+                f32x8::splat(spheres.z[s]),
+            ];
+            let r = f32x8::splat(spheres.r[s]);
+            for (b, block) in self.sets[kind].iter().enumerate() {
+                let d = [
+                    p[0] - block.center[0],
+                    p[1] - block.center[1],
+                    p[2] - block.center[2],
+                ];
+                let mut dist2 = zero;
+                for k in 0..3 {
+                    let along =
+                        block.axes[k][0] * d[0] + block.axes[k][1] * d[1] + block.axes[k][2] * d[2];
+                    let outside = (along.abs() - block.half[k]).max(zero);
+                    dist2 += outside * outside;
+                }
+                let gap = (dist2.sqrt() - block.reach - r).to_array();
+                for (lane, g) in gap.into_iter().enumerate() {
+                    let index = self.index[kind][b * LANES + lane] as usize;
+                    if g < best && !skip.get(index).copied().unwrap_or(false) {
+                        best = g;
+                    }
+                }
+            }
+        }
+        best
+    }
+}
+
 /// Whether the sphere at `p` of radius `r` reaches any lane's rounded box: the distance from
 /// `p` to the box (clamped per box axis) is at most `r` plus the lane's reach.
 #[inline]
