@@ -188,3 +188,25 @@ fn with_the_side_door_open_first_the_back_door_needs_it_closed() {
             .collect::<Vec<_>>()
     );
 }
+
+#[test]
+fn bar_turn_settings_are_checked_and_give_the_angles_each_way() {
+    let bad = |s: PlacementSettings| s.validate().unwrap_err().to_string();
+    let err = bad(PlacementSettings {
+        bar_turn: 2.0,
+        ..PlacementSettings::default()
+    });
+    assert!(err.contains("bar_turn"), "{err}");
+    let err = bad(PlacementSettings {
+        bar_turn: 1.0,
+        bar_turn_steps: 0,
+        ..PlacementSettings::default()
+    });
+    assert!(err.contains("bar_turn_steps"), "{err}");
+    assert!(PlacementSettings::default().bar_turns().is_empty());
+    let settings = PlacementSettings {
+        bar_turn: 1.2,
+        ..PlacementSettings::default()
+    };
+    assert_eq!(settings.bar_turns(), [0.6, -0.6, 1.2, -1.2]);
+}
