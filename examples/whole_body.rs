@@ -7,12 +7,15 @@
 //! reached and why not, and for the tracked one the base travel.
 //!
 //! ```text
-//! cargo run --example whole_body -- [--starts N] [--arm-seeds M] [--cone RAD] [JOINT HANDLE TO]...
+//! cargo run --example whole_body -- [--starts N] [--arm-seeds M] [--cone RAD] [--turn RAD]
+//!     [JOINT HANDLE TO]...
 //! ```
 //!
 //! `--starts` and `--arm-seeds` override [`WholeBodySettings::starts`] and
 //! [`WholeBodySettings::arm_seeds`] (defaults 4 and 3), `--cone` the manipulation's
-//! `approach_cone` (default 0).
+//! `approach_cone` (default 0), `--turn` the placement's
+//! [`bar_turn`](PlacementSettings::bar_turn) (default 0: the grasp along the handle's
+//! normal; the placement line then names the grasp angle it kept).
 
 use std::f64::consts::FRAC_PI_2;
 use std::path::Path;
@@ -36,12 +39,14 @@ fn main() -> ExitCode {
     let mut args: Vec<String> = std::env::args().skip(1).collect();
     let mut whole_body = WholeBodySettings::default();
     let mut cone = 0.0;
+    let mut turn = 0.0;
     while args.len() >= 2 && args[0].starts_with("--") {
         let (count, angle) = (args[1].parse().ok(), args[1].parse().ok());
         match (args[0].as_str(), count, angle) {
             ("--starts", Some(n), _) => whole_body.starts = n,
             ("--arm-seeds", Some(n), _) => whole_body.arm_seeds = n,
             ("--cone", _, Some(a)) => cone = a,
+            ("--turn", _, Some(a)) => turn = a,
             _ => {
                 eprintln!("whole_body: bad option {} {}", args[0], args[1]);
                 return ExitCode::from(2);
@@ -68,11 +73,12 @@ fn main() -> ExitCode {
             .collect()
     } else {
         eprintln!(
-            "usage: whole_body [--starts N] [--arm-seeds M] [--cone RAD] [JOINT HANDLE TO]..."
+            "usage: whole_body [--starts N] [--arm-seeds M] [--cone RAD] [--turn RAD] \
+             [JOINT HANDLE TO]..."
         );
         return ExitCode::from(2);
     };
-    match run(&doors, &whole_body, cone) {
+    match run(&doors, &whole_body, cone, turn) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("whole_body: {e}");
@@ -85,6 +91,7 @@ fn run(
     doors: &[(String, String, f64)],
     whole_body: &WholeBodySettings,
     cone: f64,
+    turn: f64,
 ) -> Result<(), Box<dyn std::error::Error>> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/kitchen.urdf");
     let model = urdf::read_file(path, &ImportOptions::default())?;
@@ -111,6 +118,7 @@ fn run(
             keep: whole_body.starts,
             ..SamplingSettings::default()
         },
+        bar_turn: turn,
         ..PlacementSettings::default()
     };
     for (joint, handle, to) in doors {
@@ -130,8 +138,10 @@ fn run(
             &Termination::none(),
         )?;
         println!(
-            "{joint}: one base pose {:?} reaches {} of {} waypoints ({:.1} s){}",
+            "{joint}: one base pose {:?}, grasp turned {:.3} rad about the bar, reaches {} of {} \
+             waypoints ({:.1} s){}",
             placement.base.map(|v| (v * 1000.0).round() / 1000.0),
+            placement.motion.grasp_angle,
             placement.reached.iter().filter(|r| **r).count(),
             placement.reached.len(),
             started.elapsed().as_secs_f64(),

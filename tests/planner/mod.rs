@@ -2,6 +2,7 @@
 
 mod base_joints;
 pub(crate) mod contact;
+mod corner;
 mod differential;
 mod goals;
 mod reach;

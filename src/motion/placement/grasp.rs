@@ -7,7 +7,9 @@ use nalgebra::{
 use super::PlacementError;
 use crate::kinematics::ik::IkTarget;
 use crate::scene::motion::grasp_trajectory;
-use crate::scene::{HandleId, JointId, SceneData, SceneModel, State, joint_axis};
+use crate::scene::{
+    HandleId, JointId, SceneData, SceneModel, State, forward_kinematics, joint_axis,
+};
 
 /// How the tool's rotation about the approach axis is chosen.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -105,6 +107,11 @@ pub struct JointMotion {
     /// straight retreat after it (0: none). The handle trajectory is
     /// [`JointMotion::trajectory`].
     pub approach: usize,
+    /// The angle (rad) by which every grasp frame is turned about the handle's bar axis
+    /// ([`handle_bar_axis`](crate::scene::collision::handle_bar_axis)) away from the approach
+    /// along the inward normal: 0 for the grasp along the normal
+    /// ([`JointMotion::turned_about_bar`]).
+    pub grasp_angle: f64,
 }
 
 impl JointMotion {
@@ -154,7 +161,59 @@ impl JointMotion {
             values,
             grasps,
             approach: 0,
+            grasp_angle: 0.0,
         })
+    }
+
+    /// The same motion grasped from another side of a bar handle: every grasp frame's approach
+    /// turned by `angle` (rad) about the bar's long axis `bar` (a unit vector in the handle's
+    /// part frame, as [`handle_bar_axis`](crate::scene::collision::handle_bar_axis) gives it),
+    /// carried to the world by the part's pose at that waypoint's joint value. The approach
+    /// direction then stays perpendicular to the bar and turns rigidly with the part, as the
+    /// normal does; the grasp points are unchanged. The full tool pose
+    /// ([`GraspFrame::world_from_tool`]) of a turned grasp has +x along the bar: the fingers
+    /// (which close along tool x) lie beside each other along the bar, so that neither dips
+    /// towards the part's front as the approach tilts; a turned grasp is planned with that
+    /// pose ([`GraspRotation::Fixed`]) whatever the settings say. Apply it before
+    /// [`with_standoff`](Self::with_standoff) and [`with_approach`](Self::with_approach), so
+    /// that the stand-off and the straight approach and retreat run along the turned
+    /// direction. Angles add up in [`JointMotion::grasp_angle`].
+    ///
+    /// # Errors
+    /// [`PlacementError::Scene`] if `state` is not the state the motion was made from (its
+    /// size) or the motion's ids are foreign to `model`.
+    pub fn turned_about_bar(
+        mut self,
+        model: &SceneModel,
+        state: &State,
+        bar: &Unit<Vector3<f64>>,
+        angle: f64,
+    ) -> Result<JointMotion, PlacementError> {
+        if angle == 0.0 {
+            return Ok(self);
+        }
+        let mut data = SceneData::new(model);
+        let part = self.handle.part();
+        for (g, v) in self.grasps.iter_mut().zip(&self.values) {
+            let mut s = state.clone();
+            s.set(model, self.joint, *v)?;
+            forward_kinematics(model, &mut data, &s)?;
+            let world_from_part =
+                data.world_from_part(part)
+                    .ok_or(crate::scene::Error::UnknownId {
+                        kind: crate::scene::ElementKind::Part,
+                        index: part.index(),
+                    })?;
+            let axis = Unit::new_normalize(world_from_part.rotation * bar.into_inner());
+            g.approach = UnitQuaternion::from_axis_angle(&axis, angle) * g.approach;
+            let z = g.approach.into_inner();
+            let x = (axis.into_inner() - z * axis.dot(&z)).normalize();
+            let rotation =
+                Rotation3::from_matrix_unchecked(Matrix3::from_columns(&[x, z.cross(&x), z]));
+            g.world_from_tool.rotation = UnitQuaternion::from_rotation_matrix(&rotation);
+        }
+        self.grasp_angle += angle;
+        Ok(self)
     }
 
     /// The same motion with a straight approach and retreat of `steps` waypoints each, along

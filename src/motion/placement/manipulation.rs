@@ -3,51 +3,17 @@
 
 use std::f64::consts::PI;
 
-use nalgebra::{DVector, Isometry3, Point3, Vector3};
+use nalgebra::{DVector, Isometry3, Vector3};
 
 use super::grasp::{GraspRotation, JointMotion};
 use super::plan::{ManipulationPlan, Obstacle, WaypointFailure};
+use super::reach::{ArmReach, arm_reach};
 use super::{ManipulationSettings, PlacementError, PlacementProblem};
 use crate::control::Termination;
 use crate::kinematics::ik::{IkBest, IkData, IkFailure, IkOutcome, IkSolution, IkTarget};
 use crate::kinematics::robot::{ArmJointKind, Exempt, RobotConfig, RobotModel};
-use crate::scene::collision::Body;
+use crate::scene::collision::{Body, handle_front_shapes};
 use crate::scene::{PartId, SceneData, forward_kinematics};
-
-/// A bound on where the arm can put the tool: the origin of the first arm joint (in the base
-/// frame) and the arm's length from it — the sum of the link offsets after it and of the tool
-/// offset, plus the stroke of prismatic joints. Rotations about axes through a joint origin
-/// keep distances from it, so by the triangle inequality no configuration puts the tool
-/// farther than `length` from `base_from_shoulder`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ArmReach {
-    /// The first arm joint's origin in the base frame (m).
-    pub base_from_shoulder: Point3<f64>,
-    /// The length bound (m).
-    pub length: f64,
-}
-
-/// The reach bound of `robot`'s arm (see [`ArmReach`]).
-pub fn arm_reach(robot: &RobotModel) -> ArmReach {
-    let joints = robot.arm_joints();
-    let shoulder = joints.first().map_or(*robot.base_from_arm_root(), |j| {
-        robot.base_from_arm_root() * j.parent_from_joint
-    });
-    let links: f64 = joints
-        .iter()
-        .skip(1)
-        .map(|j| j.parent_from_joint.translation.vector.norm())
-        .sum();
-    let strokes: f64 = joints
-        .iter()
-        .filter(|j| j.kind == ArmJointKind::Prismatic)
-        .map(|j| j.lower.abs().max(j.upper.abs()))
-        .sum();
-    ArmReach {
-        base_from_shoulder: Point3::from(shoulder.translation.vector),
-        length: links + strokes + robot.last_from_tool().translation.vector.norm(),
-    }
-}
 
 /// Moves each continuous joint of `q` by a multiple of 2π to within π of `prev` (the IK
 /// wraps unlimited angles into [−π, π); a trajectory must not jump by 2π).
@@ -101,6 +67,11 @@ pub(crate) struct Prepared<'a> {
     pub termination: Termination<'a>,
     pub lower: DVector<f64>,
     pub upper: DVector<f64>,
+    /// For a grasp turned about a bar ([`JointMotion::grasp_angle`] non-zero): the front
+    /// shapes of the handle's part, which the contact shapes must not touch either (the
+    /// stand-off along the turned direction does not keep fingers beside the axis out of the
+    /// front). Empty for the grasp along the normal, whose stand-off does.
+    pub front: Vec<usize>,
 }
 
 impl<'a> Prepared<'a> {
@@ -132,7 +103,19 @@ impl<'a> Prepared<'a> {
                 got: problem.ik.model().nq(),
             });
         }
+        let front = if motion.grasp_angle == 0.0 {
+            Vec::new()
+        } else {
+            handle_front_shapes(model, motion.handle)?
+        };
+        // A turned grasp keeps its fingers along the bar (see `JointMotion::turned_about_bar`).
+        let rotation = if motion.grasp_angle == 0.0 {
+            rotation
+        } else {
+            GraspRotation::Fixed
+        };
         Ok(Prepared {
+            front,
             reach: arm_reach(problem.robot),
             rotation,
             termination: Termination::none(),
@@ -148,7 +131,8 @@ impl<'a> Prepared<'a> {
     /// The first obstacle of the robot at `(base, q)` with the scene in `data`: self
     /// collision; any link within `margin` of the scene under the grasp contact rule (only the
     /// gripper's contact shapes may touch the moving parts, see [`Exempt::Grasp`]); the base
-    /// links within `margin` of the moving parts (which the base must not be in the way of).
+    /// links within `margin` of the moving parts (which the base must not be in the way of);
+    /// for a turned grasp, a contact shape touching the handle's part's front.
     pub(crate) fn obstacle(
         &self,
         base: [f64; 3],
@@ -164,6 +148,18 @@ impl<'a> Prepared<'a> {
         let exempt = Exempt::Grasp(&self.moving);
         if let Some(o) = Obstacle::at(p.robot, p.collision, p.model, &poses, data, exempt, margin) {
             return Ok(Some(o));
+        }
+        let part = self.motion.handle.part();
+        if !self.front.is_empty()
+            && let Some(link) =
+                p.collision
+                    .contact_touches(&poses, p.model, data, part, &self.front)
+        {
+            return Ok(Some(Obstacle::scene(
+                p.robot,
+                p.model,
+                (link, Body::Part(part)),
+            )));
         }
         Ok(self
             .base_obstacle(&poses, data, margin)

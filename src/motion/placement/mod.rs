@@ -75,8 +75,10 @@
 mod error;
 mod grasp;
 mod manipulation;
+mod motion;
 mod optimised;
 mod plan;
+mod reach;
 mod sampled;
 mod settings;
 mod symbolic;
@@ -88,9 +90,10 @@ use nalgebra::DVector;
 
 pub use error::PlacementError;
 pub use grasp::{GraspFrame, GraspRotation, JointMotion};
-pub use manipulation::{ArmReach, arm_reach};
+pub use motion::{grasp_standoff, grasp_standoff_along, placement_motion, placement_motion_turned};
 pub use optimised::PlacementData;
 pub use plan::{ManipulationPlan, Obstacle, WaypointFailure};
+pub use reach::{ArmReach, arm_reach};
 pub use settings::{
     MAX_STEPS, ManipulationSettings, OptimisationSettings, PlacementMethod, PlacementObjective,
     PlacementSettings, SamplingSettings,
@@ -103,7 +106,7 @@ pub use whole_body::{
 use crate::control::Termination;
 use crate::kinematics::ik::IkSolver;
 use crate::kinematics::robot::{RobotCollision, RobotModel};
-use crate::scene::collision::handle_standoff;
+use crate::scene::collision::handle_bar_axis;
 use crate::scene::{HandleId, JointId, PartId, SceneModel, State};
 use manipulation::{Cutoff, Prepared};
 use sampled::Stop;
@@ -300,6 +303,48 @@ pub fn place_and_plan(
         return Err(PlacementError::NonFinite { what: "robot_from" });
     }
     let motion = placement_motion(problem, joint, handle, to, settings)?;
+    let mut best = place_motion(problem, motion, robot_from, settings, data, termination)?;
+    let turns = match handle_bar_axis(problem.model, handle)? {
+        Some(_) if !best.is_complete() => settings.bar_turns(),
+        _ => Vec::new(),
+    };
+    let score = |o: &PlacementOutcome| match settings.sampling.objective {
+        PlacementObjective::MostReached => o.reached.iter().filter(|r| **r).count(),
+        PlacementObjective::LongestPrefix => o.reached_prefix(),
+    };
+    for angle in turns {
+        if termination.should_stop() {
+            break;
+        }
+        let motion = placement_motion_turned(problem, joint, handle, to, settings, angle)?;
+        let outcome = place_motion(problem, motion, robot_from, settings, data, termination)?;
+        let mut parts: std::collections::BTreeSet<PartId> =
+            best.obstacle_parts.iter().copied().collect();
+        parts.extend(outcome.obstacle_parts.iter().copied());
+        let samples = best.stats.samples + outcome.stats.samples;
+        if score(&outcome) > score(&best) {
+            best = outcome;
+        }
+        best.obstacle_parts = parts.into_iter().collect();
+        best.stats.samples = samples;
+        if best.is_complete() {
+            break;
+        }
+    }
+    best.elapsed = start.elapsed();
+    Ok(best)
+}
+
+/// [`place_and_plan`] for one given joint motion (its grasp frames fixed).
+fn place_motion(
+    problem: PlacementProblem<'_>,
+    motion: JointMotion,
+    robot_from: [f64; 3],
+    settings: &PlacementSettings,
+    data: &mut PlacementData,
+    termination: &Termination<'_>,
+) -> Result<PlacementOutcome, PlacementError> {
+    let start = Instant::now();
     let mut prepared = Prepared::new(problem, &motion, settings.grasp)?;
     prepared.termination = termination.capped(settings.sampling.budget);
     let seed = problem.robot.neutral();
@@ -402,56 +447,4 @@ pub fn place_and_plan(
         stats,
         ranked,
     })
-}
-
-/// The joint motion [`place_and_plan`] plans for: `joint` from its value in `problem.state`
-/// to `to` in `settings.steps` steps by `handle`
-/// ([`JointMotion::new`]), the grasp points moved out by [`grasp_standoff`] (with
-/// `settings.manipulation.finger_clearance`, [`JointMotion::with_standoff`]), with the straight
-/// approach and retreat of `settings` ([`JointMotion::with_approach`]). With
-/// [`plan_manipulation`] it evaluates one given base pose exactly as the sampler evaluates
-/// each of its candidates.
-///
-/// # Errors
-/// As [`JointMotion::new`] and [`grasp_standoff`].
-pub fn placement_motion(
-    problem: PlacementProblem<'_>,
-    joint: JointId,
-    handle: HandleId,
-    to: f64,
-    settings: &PlacementSettings,
-) -> Result<JointMotion, PlacementError> {
-    Ok(JointMotion::new(
-        problem.model,
-        problem.state,
-        joint,
-        handle,
-        to,
-        settings.steps,
-    )?
-    .with_standoff(grasp_standoff(
-        &problem,
-        handle,
-        settings.manipulation.finger_clearance,
-    )?)
-    .with_approach(settings.approach_distance, settings.approach_steps))
-}
-
-/// How far the tool stops short of `handle`'s grasp point (m, out along the normal): what the
-/// gripper's fingertips ([`RobotCollision::fingertip_reach`]) plus `clearance` reach past the
-/// handle's standoff from its part's front; 0 for a robot without contact geometry or a
-/// handle with no front behind it.
-///
-/// # Errors
-/// [`PlacementError::Scene`] for a foreign handle id.
-pub fn grasp_standoff(
-    problem: &PlacementProblem<'_>,
-    handle: HandleId,
-    clearance: f64,
-) -> Result<f64, PlacementError> {
-    let Some(tip) = problem.collision.fingertip_reach(problem.robot) else {
-        return Ok(0.0);
-    };
-    let need = tip.max(0.0) + clearance;
-    Ok(handle_standoff(problem.model, handle, need)?.map_or(0.0, |front| (need - front).max(0.0)))
 }

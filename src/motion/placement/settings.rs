@@ -237,7 +237,8 @@ pub struct PlacementSettings {
     /// The optimiser (used by [`PlacementMethod::Optimised`]).
     pub optimisation: OptimisationSettings,
     /// Length (m) of the straight approach to the first grasp frame and of the straight
-    /// retreat from the last, along the handle's normal, >= 0 (default 0.05; 0: none). The
+    /// retreat from the last, along the handle's normal (a turned grasp's direction, see
+    /// `bar_turn`), >= 0 (default 0.05; 0: none). The
     /// base pose is chosen for the whole sequence: pre-grasp, approach, handle trajectory,
     /// retreat, post-grasp ([`JointMotion::with_approach`](super::JointMotion::with_approach)).
     pub approach_distance: f64,
@@ -250,6 +251,20 @@ pub struct PlacementSettings {
     /// so the arm can go from the stow to the handle and back there; `None` (default): the
     /// base links alone. The hierarchical planner sets its stow.
     pub stow: Option<DVector<f64>>,
+    /// Turned grasps of bar handles: the largest angle (rad, in `[0, π/2]`) by which the
+    /// approach may be turned about the handle's bar axis
+    /// ([`handle_bar_axis`](crate::scene::collision::handle_bar_axis)) away from the inward
+    /// normal: a bar can be grasped from any direction perpendicular to it. 0 (default): the
+    /// grasp along the normal only. With a positive value and a bar handle, a placement whose
+    /// grasp along the normal does not reach every waypoint is tried again with the approach
+    /// turned by `±i/n` of this angle, `i = 1..=n` (`n` = `bar_turn_steps`), the smaller turns
+    /// first, and the best by the sampler's objective is kept (an earlier one on a tie);
+    /// [`JointMotion::grasp_angle`](super::JointMotion::grasp_angle) says which. The fingers
+    /// of a turned grasp may touch the handle's own shape but not the part's front
+    /// ([`JointMotion::turned_about_bar`](super::JointMotion::turned_about_bar)).
+    pub bar_turn: f64,
+    /// The turned grasps tried each way (`n` above), >= 1. Default 2.
+    pub bar_turn_steps: usize,
 }
 
 impl Default for PlacementSettings {
@@ -264,6 +279,8 @@ impl Default for PlacementSettings {
             approach_distance: 0.05,
             approach_steps: 3,
             stow: None,
+            bar_turn: 0.0,
+            bar_turn_steps: 2,
         }
     }
 }
@@ -421,8 +438,30 @@ impl PlacementSettings {
             )
             .into());
         }
+        if !(0.0..=std::f64::consts::FRAC_PI_2).contains(&self.bar_turn) {
+            return Err(InvalidSetting::new("bar_turn", self.bar_turn, "in [0, pi/2]").into());
+        }
+        if self.bar_turn_steps == 0 {
+            return Err(InvalidSetting::new("bar_turn_steps", 0.0, ">= 1").into());
+        }
         self.manipulation.validate()?;
         self.sampling.validate()?;
         self.optimisation.validate()
+    }
+
+    /// The grasp angles about a bar handle's axis tried after the grasp along the normal
+    /// ([`PlacementSettings::bar_turn`]): `+a, −a` for `a = bar_turn · i / bar_turn_steps`,
+    /// `i = 1..=bar_turn_steps`; empty when `bar_turn` is 0.
+    pub fn bar_turns(&self) -> Vec<f64> {
+        if self.bar_turn <= 0.0 {
+            return Vec::new();
+        }
+        let n = self.bar_turn_steps.max(1);
+        (1..=n)
+            .flat_map(|i| {
+                let a = self.bar_turn * i as f64 / n as f64;
+                [a, -a]
+            })
+            .collect()
     }
 }

@@ -13,11 +13,12 @@
 //! 2. **approach**: the arm moves from the stowed configuration to the *pre-grasp*
 //!    configuration (OMPL in joint space; nothing exempt: every robot shape keeps the margin
 //!    from every body, the part about to be grasped included), then straight in along the
-//!    handle's inward normal to the grasp, the first waypoint of the manipulation (the
+//!    handle's inward normal (or the grasp direction turned about a bar handle,
+//!    `placement.bar_turn`) to the grasp, the first waypoint of the manipulation (the
 //!    placement's approach, `placement.approach_distance`, chosen with the base pose);
 //! 3. **manipulation**: the arm follows the joint-space trajectory that keeps the tool on the
 //!    handle trajectory of Eq. (3)–(5) while the part moves with it;
-//! 4. **retreat**: the arm backs straight out along the handle's normal in the new state to
+//! 4. **retreat**: the arm backs straight out along the grasp direction in the new state to
 //!    the *post-grasp* configuration, then returns to the stowed configuration (OMPL, nothing
 //!    exempt);
 //! 5. nothing else moves: the next step starts from the stowed arm at this base pose.
@@ -39,7 +40,9 @@
 //! shapes (fingers, pads) may touch the grasped part and its descendants, and every other
 //! shape keeps the margin from every body, the grasped part included. The grasp itself stops
 //! the tool short of the handle where the fingertips would otherwise enter the part's front
-//! (see [`JointMotion::with_standoff`](crate::motion::placement::JointMotion::with_standoff)).
+//! (see [`JointMotion::with_standoff`](crate::motion::placement::JointMotion::with_standoff));
+//! a grasp turned about a bar also keeps the fingers out of the part's front (each segment's
+//! placement chooses its own grasp angle, the regrasp may change it).
 //!
 //! Every path is re-checked densely by
 //! [`first_invalid`](crate::motion::paths::first_invalid) at the planner's resolution, with

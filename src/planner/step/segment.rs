@@ -12,7 +12,8 @@ use super::{
 };
 use crate::kinematics::robot::RobotConfig;
 use crate::motion::placement::{
-    PlacementMethod, PlacementObjective, PlacementOutcome, placement_motion, plan_manipulation,
+    PlacementMethod, PlacementObjective, PlacementOutcome, placement_motion_turned,
+    plan_manipulation,
 };
 use crate::planner::PlannerError;
 use crate::scene::{HandleId, JointId, PartId, State};
@@ -247,7 +248,15 @@ impl Segments<'_, '_> {
             let s = StepRefinement::new(
                 ctx, self.index, self.step, &segment, None, self.joint, r.state,
             )?;
-            let seg_motion = placement_motion(s.problem(), self.joint, self.handle, end, settings)?;
+            // The prefix's grasp (turned about a bar or not) carries its segment.
+            let seg_motion = placement_motion_turned(
+                s.problem(),
+                self.joint,
+                self.handle,
+                end,
+                settings,
+                motion.grasp_angle,
+            )?;
             let at_prefix = plan_manipulation(
                 s.problem(),
                 &seg_motion,

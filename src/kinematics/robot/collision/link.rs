@@ -10,6 +10,38 @@ use crate::scene::collision::geometry::Placed;
 use crate::scene::{PartId, SceneData, SceneModel};
 
 impl RobotCollision {
+    /// The first link (lowest index) whose contact shapes touch or overlap one of the shapes
+    /// `shapes` (indices into the part's collision shapes) of `part` at the part pose in
+    /// `data`: the fronts a grasp's fingers must stay out of while they may touch the
+    /// handle's own shape. `None` if none does (or the part or a shape index is foreign).
+    pub(crate) fn contact_touches(
+        &self,
+        link_poses: &[Isometry3<f64>],
+        model: &SceneModel,
+        data: &SceneData,
+        part: PartId,
+        shapes: &[usize],
+    ) -> Option<usize> {
+        let pose = data.world_from_part(part)?;
+        let scene = model.geometry.parts.get(part.index())?;
+        let targets: Vec<Placed<'_>> = shapes
+            .iter()
+            .filter_map(|&k| scene.get(k).map(|s| Placed::new(s, pose)))
+            .collect();
+        (0..self.shapes.len().min(link_poses.len())).find(|&l| {
+            self.shapes[l]
+                .iter()
+                .zip(&self.contact[l])
+                .filter(|(_, c)| **c)
+                .any(|(s, _)| {
+                    let placed = Placed::new(s, &link_poses[l]);
+                    targets
+                        .iter()
+                        .any(|t| placed.sphere_gap(t) <= 0.0 && placed.distance(t) <= 0.0)
+                })
+        })
+    }
+
     /// Whether the shapes of links `i` and `j` touch or overlap at `link_poses` (exact, as
     /// [`RobotCollision::self_collision`] tests a pair; allowed or not). `false` if either
     /// link has no pose or no shapes.

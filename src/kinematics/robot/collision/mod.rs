@@ -327,6 +327,24 @@ impl RobotCollision {
             .reduce(f64::max)
     }
 
+    /// How far the gripper's contact shapes reach sideways from the tool's x-z plane (m): the
+    /// largest |y|, in the tool frame, of the bounding boxes of the contact shapes of the last
+    /// link (the fingers' half thickness across their closing direction for a two-finger
+    /// gripper). `None` if the robot has no contact shapes on its last link.
+    pub fn fingertip_side_reach(&self, robot: &RobotModel) -> Option<f64> {
+        let last = self.shapes.len().checked_sub(1)?;
+        let tool_from_last = robot.last_from_tool().inverse();
+        self.shapes[last]
+            .iter()
+            .zip(&self.contact[last])
+            .filter(|(_, c)| **c)
+            .map(|(s, _)| {
+                let b = s.world_box(&tool_from_last);
+                b.max.y.abs().max(b.min.y.abs())
+            })
+            .reduce(f64::max)
+    }
+
     /// The links rigidly attached to the base (they move with the base only, whatever the arm
     /// does): `[0]`, the base link with every link merged into it. SE(2) base validity with the
     /// arm stowed checks these and the arm links at the stowed configuration.
