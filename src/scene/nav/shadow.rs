@@ -189,3 +189,63 @@ pub(crate) fn hull_rect_distance(hull: &[Point2<f64>], lo: &Point2<f64>, hi: &Po
     };
     from_hull.min(from_rect)
 }
+
+/// Whether some axis (an edge normal or edge direction of either set) strictly separates two
+/// convex point sets (each a point, a segment or a counter-clockwise polygon).
+fn convex_separated(a: &[Point2<f64>], b: &[Point2<f64>]) -> bool {
+    let axes = |s: &[Point2<f64>]| -> Vec<nalgebra::Vector2<f64>> {
+        let n = s.len();
+        (0..n)
+            .filter(|k| n > 1 && (n > 2 || *k == 0))
+            .flat_map(|k| {
+                let d = s[(k + 1) % n] - s[k];
+                [nalgebra::Vector2::new(d.y, -d.x), d]
+            })
+            .collect()
+    };
+    let range = |s: &[Point2<f64>], v: &nalgebra::Vector2<f64>| {
+        s.iter()
+            .map(|p| v.dot(&p.coords))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                (lo.min(x), hi.max(x))
+            })
+    };
+    axes(a).iter().chain(axes(b).iter()).any(|v| {
+        let (a0, a1) = range(a, v);
+        let (b0, b1) = range(b, v);
+        a1 < b0 || b1 < a0
+    })
+}
+
+/// Distance (m) between two convex point sets (each a point, a segment or a
+/// counter-clockwise polygon); 0 if they touch or overlap.
+pub(crate) fn convex_distance(a: &[Point2<f64>], b: &[Point2<f64>]) -> f64 {
+    if a.is_empty() || b.is_empty() {
+        return f64::INFINITY;
+    }
+    let single = a.len() == 1 && b.len() == 1;
+    if !single && !convex_separated(a, b) {
+        return 0.0;
+    }
+    // Disjoint convex sets: a closest pair has a vertex of one of them.
+    let to_edges = |p: &Point2<f64>, s: &[Point2<f64>]| {
+        let n = s.len();
+        if n == 1 {
+            return (p - s[0]).norm();
+        }
+        (0..n)
+            .map(|k| point_segment_distance(p, &s[k], &s[(k + 1) % n]))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let ab = a.iter().map(|p| to_edges(p, b)).fold(f64::INFINITY, f64::min);
+    let ba = b.iter().map(|p| to_edges(p, a)).fold(f64::INFINITY, f64::min);
+    ab.min(ba)
+}
+
+impl Shadow {
+    /// Distance (m) from the shadow to a convex point set (a point, a segment or a
+    /// counter-clockwise polygon); 0 if they touch or overlap.
+    pub(crate) fn distance_to(&self, points: &[Point2<f64>]) -> f64 {
+        (convex_distance(&self.hull, points) - self.radius).max(0.0)
+    }
+}

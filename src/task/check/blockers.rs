@@ -56,7 +56,7 @@ impl Checker<'_> {
         let after = self.filtered_occupancy(caches, data, &after_key, include)?;
         let ok = region.iter().any(|r| {
             !before.blocked.cells[r.cell]
-                && !swept.contains(r.cell)
+                && !self.boundary.in_sweep(&swept, r.cell)
                 && before.reaches(r.cell)
                 && after.reaches(r.cell)
         });

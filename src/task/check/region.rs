@@ -133,8 +133,9 @@ impl Checker<'_> {
                 if grid.is_occupied(i, j) {
                     continue;
                 }
-                let c = grid.cell_center(i, j);
                 let cell = j * w + i;
+                let [cx, cy] = self.base_xy(cell);
+                let c = nalgebra::Point2::new(cx, cy);
                 let cover: Vec<bool> = traj.iter().map(|p| covers(c, p)).collect();
                 if cover.iter().all(|k| *k) && front(c, &traj[0]) {
                     out.push(RegionCell {
@@ -175,7 +176,8 @@ impl Checker<'_> {
             for (cell, end) in prefixes {
                 let rest = (1..=end).map(|t| need[t]).min().unwrap_or(usize::MAX);
                 if rest < m.segments {
-                    let c = grid.cell_center(cell % w, cell / w);
+                    let [cx, cy] = self.base_xy(cell);
+                    let c = nalgebra::Point2::new(cx, cy);
                     out.push(RegionCell {
                         cell,
                         handle,
