@@ -85,7 +85,8 @@ impl Default for CostWeights {
 
 /// Where the robot base may stand to operate a part: the *manipulation region*.
 ///
-/// A base position `c` (centre of a free grid cell) is admissible for moving joint `j` from
+/// A base position `c` (centre of a free grid cell, or the witness point of a cell freed at the
+/// grid's boundary, see [`TaskSettings::boundary_clearance`]) is admissible for moving joint `j` from
 /// `a` to `b` with handle `h` iff, for each of the `steps + 1` grasp points `p_k` of the
 /// Eq. (3)–(5) trajectory: `reach_min <= |c − p_k|_xy <= reach_max` and
 /// `height_min <= p_k.z <= height_max`; the handle's outward normal at the start `n_0` is at

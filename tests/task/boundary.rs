@@ -139,11 +139,17 @@ fn a_slot_the_grid_closes_is_operable_from_an_exact_witness() {
     assert!(x.abs() <= w - RADIUS - CLEARANCE + 1e-12, "x = {x}");
     assert!((0.305..=1.205).contains(&y), "y = {y}");
     // Not a cell centre: no centre of the slot keeps the clearance.
-    assert!(((x + 2.5) / 0.05 - 0.5).fract().abs() > 1e-9, "x = {x} is a cell centre");
+    assert!(
+        ((x + 2.5) / 0.05 - 0.5).fract().abs() > 1e-9,
+        "x = {x} is a cell centre"
+    );
     // Independent check: parry's distance from the footprint to every box is at least m.
     for b in boxes(w) {
         let d = footprint_distance(x, y, b);
-        assert!(d >= CLEARANCE - 1e-9, "footprint at ({x}, {y}) is {d} from {b:?}");
+        assert!(
+            d >= CLEARANCE - 1e-9,
+            "footprint at ({x}, {y}) is {d} from {b:?}"
+        );
     }
 }
 

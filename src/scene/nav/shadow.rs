@@ -237,8 +237,14 @@ pub(crate) fn convex_distance(a: &[Point2<f64>], b: &[Point2<f64>]) -> f64 {
             .map(|k| point_segment_distance(p, &s[k], &s[(k + 1) % n]))
             .fold(f64::INFINITY, f64::min)
     };
-    let ab = a.iter().map(|p| to_edges(p, b)).fold(f64::INFINITY, f64::min);
-    let ba = b.iter().map(|p| to_edges(p, a)).fold(f64::INFINITY, f64::min);
+    let ab = a
+        .iter()
+        .map(|p| to_edges(p, b))
+        .fold(f64::INFINITY, f64::min);
+    let ba = b
+        .iter()
+        .map(|p| to_edges(p, a))
+        .fold(f64::INFINITY, f64::min);
     ab.min(ba)
 }
 

@@ -50,8 +50,20 @@ pub(crate) struct Boundary {
 fn grown_box(s: &Shadow, grow: f64) -> [f64; 4] {
     let g = s.radius + grow;
     s.hull.iter().fold(
-        [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY],
-        |b, p| [b[0].min(p.x - g), b[1].min(p.y - g), b[2].max(p.x + g), b[3].max(p.y + g)],
+        [
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        ],
+        |b, p| {
+            [
+                b[0].min(p.x - g),
+                b[1].min(p.y - g),
+                b[2].max(p.x + g),
+                b[3].max(p.y + g),
+            ]
+        },
     )
 }
 
@@ -105,7 +117,10 @@ impl Boundary {
             let (k, best) = d
                 .iter()
                 .enumerate()
-                .fold((0, f64::NEG_INFINITY), |b, (k, v)| if *v > b.1 { (k, *v) } else { b });
+                .fold(
+                    (0, f64::NEG_INFINITY),
+                    |b, (k, v)| if *v > b.1 { (k, *v) } else { b },
+                );
             if best >= reach {
                 freed.insert(*c, (sample(*c, k), best));
             }
@@ -114,7 +129,11 @@ impl Boundary {
         let segment_clear = |a: Point2<f64>, b: Point2<f64>| {
             let (x0, y0, x1, y1) = (a.x.min(b.x), a.y.min(b.y), a.x.max(b.x), a.y.max(b.y));
             shadows.iter().zip(&boxes).all(|(s, bx)| {
-                bx[2] < x0 || bx[0] > x1 || bx[3] < y0 || bx[1] > y1 || s.distance_to(&[a, b]) > radius
+                bx[2] < x0
+                    || bx[0] > x1
+                    || bx[3] < y0
+                    || bx[1] > y1
+                    || s.distance_to(&[a, b]) > radius
             })
         };
         // Prune until every side segment from a freed cell passes.
@@ -150,7 +169,11 @@ impl Boundary {
                 None => break,
             }
         }
-        let mut near = if freed.is_empty() { Vec::new() } else { vec![false; w * h] };
+        let mut near = if freed.is_empty() {
+            Vec::new()
+        } else {
+            vec![false; w * h]
+        };
         for &c in freed.keys() {
             inflated.set_occupied(c % w, c / w, false);
             for n in chebyshev(c, 2, w, h) {

@@ -14,7 +14,11 @@
 //!    is not trapped);
 //! 3. the refiner accepts it.
 //!
-//! Inflation is by the robot radius; the swept footprint is the union of the subtree's
+//! Inflation is by the robot radius. With
+//! [`TaskSettings::boundary_clearance`](super::TaskSettings::boundary_clearance), the cells
+//! the inflated base map blocks only by rasterisation are decided in exact geometry, and a
+//! freed cell's base pose is its witness point rather than its centre (see `boundary.rs`;
+//! travel is still measured between cell centres). The swept footprint is the union of the subtree's
 //! footprints at samples spaced so that no point moves more than one cell between them,
 //! inflated by the radius plus half that spacing (so it covers the continuous sweep).
 //!

@@ -66,7 +66,9 @@ impl Checker<'_> {
         let mut blocked = Blocked::from_grid(&self.base_blocked);
         let inflated = parts.inflate(self.radius)?;
         blocked.union_with(inflated.cells());
-        let cells = inflated.occupied_cells().map(|(i, j)| j * inflated.width() + i);
+        let cells = inflated
+            .occupied_cells()
+            .map(|(i, j)| j * inflated.width() + i);
         self.boundary.block_near(&mut blocked.cells, cells);
         Ok(Occupancy::new(blocked, self.start_cell))
     }

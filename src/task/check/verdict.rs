@@ -95,7 +95,10 @@ impl Checker<'_> {
         let after = self.cached_occupancy(caches, data, &after_key)?;
         let clear: Vec<&RegionCell> = region
             .iter()
-            .filter(|r| !before.blocked.cells[r.cell] && (r.segmented || !self.boundary.in_sweep(&swept, r.cell)))
+            .filter(|r| {
+                !before.blocked.cells[r.cell]
+                    && (r.segmented || !self.boundary.in_sweep(&swept, r.cell))
+            })
             .collect();
         // The robot stands in the start's free component of this state (the start cell, or
         // the base cell of the move that led here, which had to be in it), so it can drive
@@ -112,7 +115,9 @@ impl Checker<'_> {
             .collect();
         if feasible.is_empty() {
             let cause = if clear.is_empty()
-                && region.iter().all(|r| self.boundary.in_sweep(&swept, r.cell))
+                && region
+                    .iter()
+                    .all(|r| self.boundary.in_sweep(&swept, r.cell))
             {
                 Cause::NoBasePose { shortfall: None }
             } else if reachable.is_empty() {

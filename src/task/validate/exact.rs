@@ -80,7 +80,12 @@ impl Obstacles {
     }
 
     /// The shapes whose horizontal box comes within `reach` of the box of `a` and `b`.
-    fn near(&self, a: [f64; 2], b: [f64; 2], reach: f64) -> impl Iterator<Item = &(SharedShape, Pose, [f64; 4])> {
+    fn near(
+        &self,
+        a: [f64; 2],
+        b: [f64; 2],
+        reach: f64,
+    ) -> impl Iterator<Item = &(SharedShape, Pose, [f64; 4])> {
         let (x0, y0) = (a[0].min(b[0]) - reach, a[1].min(b[1]) - reach);
         let (x1, y1) = (a[0].max(b[0]) + reach, a[1].max(b[1]) + reach);
         self.shapes
