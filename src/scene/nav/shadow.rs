@@ -248,7 +248,35 @@ pub(crate) fn convex_distance(a: &[Point2<f64>], b: &[Point2<f64>]) -> f64 {
     ab.min(ba)
 }
 
+/// Distance (m) from a point to a convex point set (a point, a segment or a
+/// counter-clockwise polygon); 0 inside or on it.
+pub(crate) fn point_convex_distance(p: &Point2<f64>, s: &[Point2<f64>]) -> f64 {
+    let n = s.len();
+    match n {
+        0 => f64::INFINITY,
+        1 => (p - s[0]).norm(),
+        2 => point_segment_distance(p, &s[0], &s[1]),
+        _ => {
+            let mut inside = true;
+            let mut best = f64::INFINITY;
+            for k in 0..n {
+                let (a, b) = (&s[k], &s[(k + 1) % n]);
+                if cross(a, b, p) < 0.0 {
+                    inside = false;
+                }
+                best = best.min(point_segment_distance(p, a, b));
+            }
+            if inside { 0.0 } else { best }
+        }
+    }
+}
+
 impl Shadow {
+    /// Distance (m) from the shadow to a point; 0 inside.
+    pub(crate) fn distance_to_point(&self, p: &Point2<f64>) -> f64 {
+        (point_convex_distance(p, &self.hull) - self.radius).max(0.0)
+    }
+
     /// Distance (m) from the shadow to a convex point set (a point, a segment or a
     /// counter-clockwise polygon); 0 if they touch or overlap.
     pub(crate) fn distance_to(&self, points: &[Point2<f64>]) -> f64 {
