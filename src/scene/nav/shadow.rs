@@ -283,3 +283,40 @@ impl Shadow {
         (convex_distance(&self.hull, points) - self.radius).max(0.0)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p(x: f64, y: f64) -> Point2<f64> {
+        Point2::new(x, y)
+    }
+
+    #[test]
+    fn convex_distances_match_hand_values() {
+        // The unit square, counter-clockwise.
+        let square = [p(0.0, 0.0), p(1.0, 0.0), p(1.0, 1.0), p(0.0, 1.0)];
+        assert_eq!(convex_distance(&square, &[p(0.5, 0.5)]), 0.0);
+        assert_eq!(point_convex_distance(&p(0.5, 0.5), &square), 0.0);
+        // (2, 2) is √2 from the corner (1, 1); (0.5, -0.25) is 0.25 below the bottom edge.
+        assert!((convex_distance(&square, &[p(2.0, 2.0)]) - 2f64.sqrt()).abs() < 1e-12);
+        assert!((point_convex_distance(&p(0.5, -0.25), &square) - 0.25).abs() < 1e-12);
+        // A segment crossing the square without a vertex inside it touches it.
+        assert_eq!(convex_distance(&square, &[p(-1.0, 0.5), p(2.0, 0.5)]), 0.0);
+        // A segment parallel to the right edge, 0.5 from it.
+        let d = convex_distance(&square, &[p(1.5, -1.0), p(1.5, 2.0)]);
+        assert!((d - 0.5).abs() < 1e-12, "{d}");
+        // Collinear disjoint segments: the gap between their ends.
+        let d = convex_distance(&[p(0.0, 0.0), p(1.0, 0.0)], &[p(3.0, 0.0), p(4.0, 0.0)]);
+        assert!((d - 2.0).abs() < 1e-12, "{d}");
+        // A shadow's disc is subtracted, down to 0.
+        let s = Shadow {
+            hull: square.to_vec(),
+            radius: 0.1,
+            z_min: 0.0,
+            z_max: 1.0,
+        };
+        assert!((s.distance_to_point(&p(0.5, -0.25)) - 0.15).abs() < 1e-12);
+        assert_eq!(s.distance_to(&[p(0.5, -0.05), p(2.0, -0.05)]), 0.0);
+    }
+}

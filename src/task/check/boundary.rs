@@ -102,10 +102,10 @@ impl Boundary {
         // Per candidate cell, each sample's least distance to the shadows so far (only
         // shadows within `reach` of the cell can matter; a sample below `reach` is out).
         let mut least: Vec<(usize, [f64; SAMPLES * SAMPLES])> = Vec::new();
-        for c in 0..w * h {
+        for (c, slot) in slot.iter_mut().enumerate() {
             let too_close = deep.as_ref().is_some_and(|d| d.cells()[c]);
             if inflated.cells()[c] && !raw.cells()[c] && !too_close {
-                slot[c] = least.len() as u32;
+                *slot = least.len() as u32;
                 least.push((c, [f64::INFINITY; SAMPLES * SAMPLES]));
             }
         }
