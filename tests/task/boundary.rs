@@ -30,7 +30,7 @@ use kinscene::scene::nav::{GridBounds, NavGridSettings};
 use kinscene::scene::{
     BaseShape, Handle, Joint, Limits, PartSpec, SceneModel, SceneModelBuilder, Shape,
 };
-use kinscene::task::{Outcome, TaskSettings};
+use kinscene::task::{Outcome, Step, TaskSettings, validate};
 use nalgebra::{Isometry3, Point2, Point3, Vector3};
 use parry3d_f64::math::{Pose, Rotation, Vector};
 use parry3d_f64::shape::{Cuboid, Cylinder};
@@ -168,4 +168,38 @@ fn a_slot_three_centimetres_narrower_stays_closed() {
         "no base pose clears the walls by {CLEARANCE}: {:?}",
         r.outcome
     );
+}
+
+/// The validator's exact rule on hand-built plans: the base pose (0, 0.5) (facing the handle)
+/// clears the walls by w − r: 0.0225 in the wide slot (accepted, the chain of straight moves
+/// down the slot's middle reaches the open floor), 0.0075 < m in the narrow one (rejected as
+/// occupied), and the grid alone rejects it in both.
+#[test]
+fn the_validator_decides_a_recorded_pose_in_the_slot_exactly() {
+    let step = Step {
+        joint: "lift".into(),
+        from: 0.0,
+        to: 0.3,
+        handle: None,
+        base: Some([0.0, 0.5, std::f64::consts::FRAC_PI_2]),
+        travel: 0.0,
+        cost: 0.0,
+    };
+    let grid_only = TaskSettings {
+        boundary_clearance: None,
+        ..TaskSettings::default()
+    };
+    for (w, accepted) in [(0.3225, true), (0.3075, false)] {
+        let model = slot(w);
+        let problem = problem(&model, GOAL);
+        let steps = [step.clone()];
+        let v = validate(&model, &problem, &steps, &TaskSettings::default()).expect("fits");
+        assert_eq!(v.valid, accepted, "w = {w}: {v:?}");
+        if !accepted {
+            let (_, why) = v.first_failure.expect("a failing step");
+            assert!(why.contains("occupied before the move"), "{why}");
+        }
+        let v = validate(&model, &problem, &steps, &grid_only).expect("fits");
+        assert!(!v.valid, "the grid alone rejects it (w = {w})");
+    }
 }

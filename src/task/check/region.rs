@@ -161,8 +161,11 @@ impl Checker<'_> {
                 if !self.base_component[cell] {
                     continue;
                 }
+                // Runs stand on cells of the rasterised base map only (the rule the validator
+                // re-checks); a cell freed at the grid's boundary can still start the move.
+                let grid_free = self.boundary.point(cell).is_none();
                 for s in 0..last {
-                    if cover[s] && front(c, &traj[s]) {
+                    if grid_free && cover[s] && front(c, &traj[s]) {
                         ext[s] = ext[s].max(run_end[s]);
                     }
                 }
