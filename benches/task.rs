@@ -54,7 +54,9 @@
 //! the cost of the predicate's phases on one instance per scene size, timed through the
 //! public API. Criterion then times one planted instance per headline
 //! (`task/<planner>/<p>parts_<g>goals`): the one with the median time among those the
-//! planner solved in the table run (headlines with no solved instance are skipped).
+//! planner solved in the table run (headlines with no solved instance are skipped), and the
+//! exact decision at the grid's boundary against the grid alone
+//! (`boundary/{predicate_setup,goal_moves}/<p>parts/{exact,grid}`, see [`boundary`]).
 //!
 //! `cargo bench --no-default-features --bench task -- --warm-up-time 1 --measurement-time 2`
 //! (the task layer is pure Rust). `KINSCENE_BENCH_QUICK=1` shrinks the instance sets,
@@ -1216,6 +1218,64 @@ fn headlines(c: &mut Criterion, cells: &[Cell]) {
     group.finish();
 }
 
+/// The cost of the exact decision at the grid's boundary
+/// ([`TaskSettings::boundary_clearance`]): per scene size, on the first planted instance of
+/// its first cell, the predicate's construction (where the boundary cells are decided) and
+/// one memo-free check of every goal joint's move from the start to its last lattice value,
+/// each with the default settings (`exact`) and with `boundary_clearance: None` (`grid`).
+fn boundary(c: &mut Criterion, cells: &[Cell]) {
+    let mut group = c.benchmark_group("boundary");
+    group.sample_size(10).sampling_mode(SamplingMode::Flat);
+    let mut seen = HashSet::new();
+    for cell in cells.iter().filter(|c| c.family == Family::Planted) {
+        let Some(inst) = cell.instances.first() else {
+            continue;
+        };
+        if !seen.insert(cell.parts) {
+            continue;
+        }
+        let (model, problem) = (&inst.kitchen.model, &inst.problem);
+        let start: Vec<f64> = problem.start.as_slice().to_vec();
+        for (label, clearance) in [
+            ("exact", TaskSettings::default().boundary_clearance),
+            ("grid", None),
+        ] {
+            let settings = TaskSettings {
+                boundary_clearance: clearance,
+                ..TaskSettings::default()
+            };
+            let lattice = Lattice::new(model, problem, &settings.lattice);
+            // One part per joint, in joint order.
+            let values: Vec<usize> = model
+                .parts()
+                .iter()
+                .map(|p| {
+                    let j = p.joint();
+                    lattice
+                        .index_of(j, start[j.index()])
+                        .expect("the start is in the lattice")
+                })
+                .collect();
+            let parts = cell.parts;
+            group.bench_function(format!("predicate_setup/{parts}parts/{label}"), |b| {
+                b.iter(|| {
+                    black_box(Feasibility::new(model, problem, &settings, &lattice).expect("valid"))
+                })
+            });
+            let mut f = Feasibility::new(model, problem, &settings, &lattice).expect("valid");
+            group.bench_function(format!("goal_moves/{parts}parts/{label}"), |b| {
+                b.iter(|| {
+                    for (j, _) in problem.goal.targets() {
+                        let to = lattice.values(*j).len() - 1;
+                        black_box(f.check(&values, *j, to).expect("valid move"));
+                    }
+                })
+            });
+        }
+    }
+    group.finish();
+}
+
 fn main() {
     let mut criterion = Criterion::default().configure_from_args();
     // `--list` (cargo's test harness protocol) only lists; nothing to measure then.
@@ -1226,6 +1286,7 @@ fn main() {
         phases(&cells);
         println!("task: table and phases in {:.1?}", started.elapsed());
         headlines(&mut criterion, &cells);
+        boundary(&mut criterion, &cells);
     }
     criterion.final_summary();
 }

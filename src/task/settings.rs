@@ -85,7 +85,8 @@ impl Default for CostWeights {
 
 /// Where the robot base may stand to operate a part: the *manipulation region*.
 ///
-/// A base position `c` (centre of a free grid cell) is admissible for moving joint `j` from
+/// A base position `c` (centre of a free grid cell, or the witness point of a cell freed at the
+/// grid's boundary, see [`TaskSettings::boundary_clearance`]) is admissible for moving joint `j` from
 /// `a` to `b` with handle `h` iff, for each of the `steps + 1` grasp points `p_k` of the
 /// Eq. (3)–(5) trajectory: `reach_min <= |c − p_k|_xy <= reach_max` and
 /// `height_min <= p_k.z <= height_max`; the handle's outward normal at the start `n_0` is at
@@ -329,6 +330,20 @@ pub struct TaskSettings {
     /// counts the moves it did not push.
     #[serde(default = "default_reduction")]
     pub reduction: bool,
+    /// The exact decision at the navigation grid's boundary: `Some(clearance)` (m, finite,
+    /// `>= 0`) frees a cell that the inflated base map blocks only by rasterisation when a
+    /// point in it keeps the robot's disc at least `clearance` from every in-band base shape
+    /// (exact 2-D distances to the shapes' shadows); that point is the base pose the plan
+    /// records for the cell, and the straight moves to its side neighbours keep the disc off
+    /// every shape. Parts stay conservative near such cells (see the module docs of the
+    /// check). `None`: the grid alone. Default `Some(0.01)`: a gap 2 cm wider than the
+    /// robot's disc is open, which the 5 cm grid can close.
+    #[serde(default = "default_boundary_clearance")]
+    pub boundary_clearance: Option<f64>,
+}
+
+fn default_boundary_clearance() -> Option<f64> {
+    Some(0.01)
 }
 
 fn default_first_pass_weight() -> f64 {
@@ -357,6 +372,7 @@ impl Default for TaskSettings {
             first_pass_weight: default_first_pass_weight(),
             dive: default_dive(),
             reduction: default_reduction(),
+            boundary_clearance: default_boundary_clearance(),
         }
     }
 }
@@ -385,6 +401,11 @@ impl TaskSettings {
                 self.first_pass_weight,
                 "finite and at least 1",
             ));
+        }
+        if let Some(c) = self.boundary_clearance
+            && !(c.is_finite() && c >= 0.0)
+        {
+            return Err(bad("boundary_clearance", c, "finite and >= 0"));
         }
         if self.lattice.interior_values > 64 {
             return Err(bad(

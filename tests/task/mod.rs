@@ -3,6 +3,7 @@
 mod anytime;
 mod baselines;
 mod basic;
+mod boundary;
 mod brute_force;
 mod cases;
 pub mod generators;

@@ -56,6 +56,19 @@ pub(crate) fn base_grid(base: &BaseMap) -> Result<NavGrid, Error> {
     Ok(grid)
 }
 
+/// The shadows of the base shapes whose vertical extent overlaps the height band: what
+/// [`base_grid`] rasterises.
+pub(crate) fn base_shadows(model: &SceneModel) -> Vec<super::shadow::Shadow> {
+    let nav = &model.base.nav;
+    model
+        .base
+        .shapes
+        .iter()
+        .map(|b| shadow(&b.shape, &b.world_from_shape))
+        .filter(|sh| nav.in_band(sh.z_min, sh.z_max))
+        .collect()
+}
+
 fn rasterize_part(model: &SceneModel, data: &SceneData, part: PartId, grid: &mut NavGrid) {
     let nav = &model.base.nav;
     let world_from_part = data.world_from_parts()[part.0];

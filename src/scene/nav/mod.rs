@@ -11,8 +11,9 @@ mod grid;
 mod route;
 pub(crate) mod search;
 mod settings;
-mod shadow;
+pub(crate) mod shadow;
 
+pub(crate) use footprint::base_shadows;
 pub use footprint::{footprint, occupancy, part_footprint};
 pub use grid::NavGrid;
 pub use route::{NoRoute, Route, route};

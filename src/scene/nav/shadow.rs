@@ -189,3 +189,134 @@ pub(crate) fn hull_rect_distance(hull: &[Point2<f64>], lo: &Point2<f64>, hi: &Po
     };
     from_hull.min(from_rect)
 }
+
+/// Whether some axis (an edge normal or edge direction of either set) strictly separates two
+/// convex point sets (each a point, a segment or a counter-clockwise polygon).
+fn convex_separated(a: &[Point2<f64>], b: &[Point2<f64>]) -> bool {
+    let axes = |s: &[Point2<f64>]| -> Vec<nalgebra::Vector2<f64>> {
+        let n = s.len();
+        (0..n)
+            .filter(|k| n > 1 && (n > 2 || *k == 0))
+            .flat_map(|k| {
+                let d = s[(k + 1) % n] - s[k];
+                [nalgebra::Vector2::new(d.y, -d.x), d]
+            })
+            .collect()
+    };
+    let range = |s: &[Point2<f64>], v: &nalgebra::Vector2<f64>| {
+        s.iter()
+            .map(|p| v.dot(&p.coords))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                (lo.min(x), hi.max(x))
+            })
+    };
+    axes(a).iter().chain(axes(b).iter()).any(|v| {
+        let (a0, a1) = range(a, v);
+        let (b0, b1) = range(b, v);
+        a1 < b0 || b1 < a0
+    })
+}
+
+/// Distance (m) between two convex point sets (each a point, a segment or a
+/// counter-clockwise polygon); 0 if they touch or overlap.
+pub(crate) fn convex_distance(a: &[Point2<f64>], b: &[Point2<f64>]) -> f64 {
+    if a.is_empty() || b.is_empty() {
+        return f64::INFINITY;
+    }
+    let single = a.len() == 1 && b.len() == 1;
+    if !single && !convex_separated(a, b) {
+        return 0.0;
+    }
+    // Disjoint convex sets: a closest pair has a vertex of one of them.
+    let to_edges = |p: &Point2<f64>, s: &[Point2<f64>]| {
+        let n = s.len();
+        if n == 1 {
+            return (p - s[0]).norm();
+        }
+        (0..n)
+            .map(|k| point_segment_distance(p, &s[k], &s[(k + 1) % n]))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let ab = a
+        .iter()
+        .map(|p| to_edges(p, b))
+        .fold(f64::INFINITY, f64::min);
+    let ba = b
+        .iter()
+        .map(|p| to_edges(p, a))
+        .fold(f64::INFINITY, f64::min);
+    ab.min(ba)
+}
+
+/// Distance (m) from a point to a convex point set (a point, a segment or a
+/// counter-clockwise polygon); 0 inside or on it.
+pub(crate) fn point_convex_distance(p: &Point2<f64>, s: &[Point2<f64>]) -> f64 {
+    let n = s.len();
+    match n {
+        0 => f64::INFINITY,
+        1 => (p - s[0]).norm(),
+        2 => point_segment_distance(p, &s[0], &s[1]),
+        _ => {
+            let mut inside = true;
+            let mut best = f64::INFINITY;
+            for k in 0..n {
+                let (a, b) = (&s[k], &s[(k + 1) % n]);
+                if cross(a, b, p) < 0.0 {
+                    inside = false;
+                }
+                best = best.min(point_segment_distance(p, a, b));
+            }
+            if inside { 0.0 } else { best }
+        }
+    }
+}
+
+impl Shadow {
+    /// Distance (m) from the shadow to a point; 0 inside.
+    pub(crate) fn distance_to_point(&self, p: &Point2<f64>) -> f64 {
+        (point_convex_distance(p, &self.hull) - self.radius).max(0.0)
+    }
+
+    /// Distance (m) from the shadow to a convex point set (a point, a segment or a
+    /// counter-clockwise polygon); 0 if they touch or overlap.
+    pub(crate) fn distance_to(&self, points: &[Point2<f64>]) -> f64 {
+        (convex_distance(&self.hull, points) - self.radius).max(0.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p(x: f64, y: f64) -> Point2<f64> {
+        Point2::new(x, y)
+    }
+
+    #[test]
+    fn convex_distances_match_hand_values() {
+        // The unit square, counter-clockwise.
+        let square = [p(0.0, 0.0), p(1.0, 0.0), p(1.0, 1.0), p(0.0, 1.0)];
+        assert_eq!(convex_distance(&square, &[p(0.5, 0.5)]), 0.0);
+        assert_eq!(point_convex_distance(&p(0.5, 0.5), &square), 0.0);
+        // (2, 2) is √2 from the corner (1, 1); (0.5, -0.25) is 0.25 below the bottom edge.
+        assert!((convex_distance(&square, &[p(2.0, 2.0)]) - 2f64.sqrt()).abs() < 1e-12);
+        assert!((point_convex_distance(&p(0.5, -0.25), &square) - 0.25).abs() < 1e-12);
+        // A segment crossing the square without a vertex inside it touches it.
+        assert_eq!(convex_distance(&square, &[p(-1.0, 0.5), p(2.0, 0.5)]), 0.0);
+        // A segment parallel to the right edge, 0.5 from it.
+        let d = convex_distance(&square, &[p(1.5, -1.0), p(1.5, 2.0)]);
+        assert!((d - 0.5).abs() < 1e-12, "{d}");
+        // Collinear disjoint segments: the gap between their ends.
+        let d = convex_distance(&[p(0.0, 0.0), p(1.0, 0.0)], &[p(3.0, 0.0), p(4.0, 0.0)]);
+        assert!((d - 2.0).abs() < 1e-12, "{d}");
+        // A shadow's disc is subtracted, down to 0.
+        let s = Shadow {
+            hull: square.to_vec(),
+            radius: 0.1,
+            z_min: 0.0,
+            z_max: 1.0,
+        };
+        assert!((s.distance_to_point(&p(0.5, -0.25)) - 0.15).abs() < 1e-12);
+        assert_eq!(s.distance_to(&[p(0.5, -0.05), p(2.0, -0.05)]), 0.0);
+    }
+}

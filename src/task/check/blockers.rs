@@ -56,7 +56,7 @@ impl Checker<'_> {
         let after = self.filtered_occupancy(caches, data, &after_key, include)?;
         let ok = region.iter().any(|r| {
             !before.blocked.cells[r.cell]
-                && !swept.contains(r.cell)
+                && !self.boundary.in_sweep(&swept, r.cell)
                 && before.reaches(r.cell)
                 && after.reaches(r.cell)
         });
@@ -69,7 +69,8 @@ impl Checker<'_> {
     /// matters (more footprint only blocks more): none. Otherwise: every inactive part of the
     /// moving subtree, and every other inactive part whose footprint, inflated by the robot
     /// radius, before or after the move, touches the start's free component of the relaxed
-    /// check (before or after). A part whose inflated footprint misses those components cannot
+    /// check (before or after), or comes within two cells of a freed boundary cell in it
+    /// (which it blocks then). A part whose inflated footprint misses those components cannot
     /// change them, wherever the other inactive parts are, so the failure is determined by the
     /// active joints and the named ones.
     pub fn path_failure_blockers(
@@ -114,9 +115,11 @@ impl Checker<'_> {
                     }
                     Arc::new(self.part_blocks(data, p.id())?)
                 };
-                named[i] = cells
-                    .iter()
-                    .any(|&c| comp_before[c as usize] || comp_after[c as usize]);
+                // A footprint cell also blocks the freed boundary cells near it.
+                let in_comp = |c: usize| comp_before[c] || comp_after[c];
+                named[i] = cells.iter().any(|&c| {
+                    in_comp(c as usize) || self.boundary.blocks_any(c as usize, &in_comp)
+                });
             }
         }
         Ok((0..named.len())

@@ -14,7 +14,11 @@
 //!    is not trapped);
 //! 3. the refiner accepts it.
 //!
-//! Inflation is by the robot radius; the swept footprint is the union of the subtree's
+//! Inflation is by the robot radius. With
+//! [`TaskSettings::boundary_clearance`](super::TaskSettings::boundary_clearance), the cells
+//! the inflated base map blocks only by rasterisation are decided in exact geometry, and a
+//! freed cell's base pose is its witness point rather than its centre (see `boundary.rs`;
+//! travel is still measured between cell centres). The swept footprint is the union of the subtree's
 //! footprints at samples spaced so that no point moves more than one cell between them,
 //! inflated by the radius plus half that spacing (so it covers the continuous sweep).
 //!
@@ -23,6 +27,7 @@
 
 mod blockers;
 mod bound;
+mod boundary;
 mod caches;
 mod occupancy;
 mod region;
@@ -108,6 +113,9 @@ pub(crate) struct Checker<'a> {
     /// The cells of the start's free component in the inflated base map (the parts left
     /// out): where a segmented move may put the robot between its runs.
     base_component: Vec<bool>,
+    /// The cells of the inflated base map freed by the exact decision at its boundary
+    /// ([`TaskSettings::boundary_clearance`]), with their witness poses.
+    boundary: boundary::Boundary,
 }
 
 impl<'a> Checker<'a> {
@@ -118,7 +126,17 @@ impl<'a> Checker<'a> {
         lattice: &'a Lattice,
     ) -> Result<Self, Error> {
         let radius = problem.robot.radius;
-        let base_blocked = model.base_grid().inflate(radius)?;
+        let mut base_blocked = model.base_grid().inflate(radius)?;
+        let boundary = match settings.boundary_clearance {
+            Some(clearance) => boundary::Boundary::free(
+                model.base_grid(),
+                &mut base_blocked,
+                &crate::scene::nav::base_shadows(model),
+                radius,
+                clearance,
+            ),
+            None => boundary::Boundary::default(),
+        };
         let gap = settings.sweep.collision.contact_distance + 2.0 * settings.sweep.margin + 1e-6;
         let ancestors: Vec<Vec<JointId>> = model
             .parts()
@@ -162,6 +180,7 @@ impl<'a> Checker<'a> {
             pose_context,
             disc,
             base_component: Vec::new(),
+            boundary,
         };
         checker.start_cell = checker.locate_start(problem)?;
         let free = Blocked::from_grid(&checker.base_blocked);
@@ -232,6 +251,21 @@ impl<'a> Checker<'a> {
     /// The base map's grid inflated by the robot radius.
     pub fn base_grid(&self) -> &crate::scene::nav::NavGrid {
         &self.base_blocked
+    }
+
+    /// The base position the robot takes in a cell: the witness of a cell freed at the
+    /// grid's boundary, else the centre. Travel is measured between centres
+    /// ([`Checker::cell_xy`]).
+    pub fn base_xy(&self, cell: usize) -> [f64; 2] {
+        match self.boundary.point(cell) {
+            Some(p) => [p.x, p.y],
+            None => self.cell_xy(cell),
+        }
+    }
+
+    /// Number of cells freed by the exact decision at the grid's boundary.
+    pub fn boundary_cells(&self) -> usize {
+        self.boundary.len()
     }
 
     /// The centre of a grid cell.

@@ -64,12 +64,18 @@ impl Checker<'_> {
             grid
         };
         let mut blocked = Blocked::from_grid(&self.base_blocked);
-        blocked.union_with(parts.inflate(self.radius)?.cells());
+        let inflated = parts.inflate(self.radius)?;
+        blocked.union_with(inflated.cells());
+        let cells = inflated
+            .occupied_cells()
+            .map(|(i, j)| j * inflated.width() + i);
+        self.boundary.block_near(&mut blocked.cells, cells);
         Ok(Occupancy::new(blocked, self.start_cell))
     }
 
     /// The cells part `part` blocks beyond the inflated base map at the state of the last
-    /// forward kinematics: its footprint inflated by the robot radius.
+    /// forward kinematics: its footprint inflated by the robot radius (with the cells near
+    /// the freed boundary cells, which block those).
     pub(super) fn part_blocks(&self, data: &SceneData, part: PartId) -> Result<Vec<u32>, Error> {
         let fp = part_footprint(self.model, data, part)?;
         let cells = set_cells(fp.cells());
@@ -79,7 +85,7 @@ impl Checker<'_> {
             .disc
             .inflate(w, h, &cells)
             .cells()
-            .filter(|&c| !base[c])
+            .filter(|&c| !base[c] || self.boundary.near(c))
             .map(|c| c as u32)
             .collect())
     }
@@ -157,6 +163,8 @@ impl Checker<'_> {
             for &c in cells.iter() {
                 blocked.cells[c as usize] = true;
             }
+            let near = cells.iter().map(|c| *c as usize);
+            self.boundary.block_near(&mut blocked.cells, near);
         }
         Ok(Occupancy::new(blocked, self.start_cell))
     }

@@ -133,8 +133,9 @@ impl Checker<'_> {
                 if grid.is_occupied(i, j) {
                     continue;
                 }
-                let c = grid.cell_center(i, j);
                 let cell = j * w + i;
+                let [cx, cy] = self.base_xy(cell);
+                let c = nalgebra::Point2::new(cx, cy);
                 let cover: Vec<bool> = traj.iter().map(|p| covers(c, p)).collect();
                 if cover.iter().all(|k| *k) && front(c, &traj[0]) {
                     out.push(RegionCell {
@@ -160,8 +161,11 @@ impl Checker<'_> {
                 if !self.base_component[cell] {
                     continue;
                 }
+                // Runs stand on cells of the rasterised base map only (the rule the validator
+                // re-checks); a cell freed at the grid's boundary can still start the move.
+                let grid_free = self.boundary.point(cell).is_none();
                 for s in 0..last {
-                    if cover[s] && front(c, &traj[s]) {
+                    if grid_free && cover[s] && front(c, &traj[s]) {
                         ext[s] = ext[s].max(run_end[s]);
                     }
                 }
@@ -175,7 +179,8 @@ impl Checker<'_> {
             for (cell, end) in prefixes {
                 let rest = (1..=end).map(|t| need[t]).min().unwrap_or(usize::MAX);
                 if rest < m.segments {
-                    let c = grid.cell_center(cell % w, cell / w);
+                    let [cx, cy] = self.base_xy(cell);
+                    let c = nalgebra::Point2::new(cx, cy);
                     out.push(RegionCell {
                         cell,
                         handle,

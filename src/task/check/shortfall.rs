@@ -94,7 +94,7 @@ impl Checker<'_> {
         let swept = self.cached_swept(caches, data, key, joint, to)?;
         if region
             .iter()
-            .any(|r| r.segmented || !swept.contains(r.cell))
+            .any(|r| r.segmented || !self.boundary.in_sweep(&swept, r.cell))
         {
             return Ok(None);
         }

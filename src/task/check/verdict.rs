@@ -95,7 +95,10 @@ impl Checker<'_> {
         let after = self.cached_occupancy(caches, data, &after_key)?;
         let clear: Vec<&RegionCell> = region
             .iter()
-            .filter(|r| !before.blocked.cells[r.cell] && (r.segmented || !swept.contains(r.cell)))
+            .filter(|r| {
+                !before.blocked.cells[r.cell]
+                    && (r.segmented || !self.boundary.in_sweep(&swept, r.cell))
+            })
             .collect();
         // The robot stands in the start's free component of this state (the start cell, or
         // the base cell of the move that led here, which had to be in it), so it can drive
@@ -111,7 +114,11 @@ impl Checker<'_> {
             .filter(|r| after.reaches(r.cell))
             .collect();
         if feasible.is_empty() {
-            let cause = if clear.is_empty() && region.iter().all(|r| swept.contains(r.cell)) {
+            let cause = if clear.is_empty()
+                && region
+                    .iter()
+                    .all(|r| self.boundary.in_sweep(&swept, r.cell))
+            {
                 Cause::NoBasePose { shortfall: None }
             } else if reachable.is_empty() {
                 Cause::PathBlocked {
@@ -195,7 +202,7 @@ impl Checker<'_> {
         }
         let (_, best) = best?;
         let best_travel = travel.to(blocked, best.cell);
-        let [x, y] = self.cell_xy(best.cell);
+        let [x, y] = self.base_xy(best.cell);
         Some(Choice {
             handle: best.handle,
             cell: best.cell,
@@ -220,7 +227,7 @@ impl Checker<'_> {
     ) -> Verdict {
         let state = self.state_of(key);
         let b = self.lattice.values(joint)[to as usize];
-        let [rx, ry] = self.cell_xy(robot_cell);
+        let [rx, ry] = self.base_xy(robot_cell);
         let ctx = MoveContext {
             model: self.model,
             state: &state,

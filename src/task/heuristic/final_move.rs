@@ -80,9 +80,10 @@ impl Heuristic<'_> {
                     let r = m.reach_max + SLACK;
                     for j in index(p.y - r, o.y, h)..=index(p.y + r, o.y, h) {
                         for i in index(p.x - r, o.x, w)..=index(p.x + r, o.x, w) {
-                            let c = grid.cell_center(i, j);
-                            let d = (c.x - p.x).hypot(c.y - p.y);
                             let cell = j * w + i;
+                            let [cx, cy] = checker.base_xy(cell);
+                            let c = nalgebra::Point2::new(cx, cy);
+                            let d = (c.x - p.x).hypot(c.y - p.y);
                             if d >= m.reach_min - SLACK && d <= r && reachable[cell] {
                                 match &m.arm {
                                     Some(arm) => {

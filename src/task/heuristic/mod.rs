@@ -85,6 +85,9 @@ pub(crate) struct Heuristic<'a> {
     resolution: f64,
     /// The inflated base map.
     free: Blocked,
+    /// How far a cell's centre can be from the base pose the task layer takes in it (m):
+    /// half a cell diagonal with cells freed at the grid's boundary, else 0.
+    witness_offset: f64,
 }
 impl<'a> Heuristic<'a> {
     pub fn new(
@@ -128,6 +131,11 @@ impl<'a> Heuristic<'a> {
             height,
             resolution,
             free: Blocked::from_grid(grid),
+            witness_offset: if checker.boundary_cells() > 0 {
+                resolution * std::f64::consts::FRAC_1_SQRT_2
+            } else {
+                0.0
+            },
         };
         if settings.cost.travel > 0.0 {
             let mut flood = Flood::new(&heuristic.free, checker.start_cell);
@@ -220,7 +228,9 @@ impl<'a> Heuristic<'a> {
             return Ok(out);
         }
         forward_kinematics(model, data, state)?;
-        let reach = self.settings.manipulation.reach_max;
+        // A base cell's witness is within reach; its centre, where travel is measured, within
+        // half a cell diagonal more.
+        let reach = self.settings.manipulation.reach_max + self.witness_offset;
         for (k, part) in model.parts().iter().enumerate() {
             if !active[k] || part.handles().is_empty() {
                 continue;

@@ -102,7 +102,17 @@ impl Replay<'_> {
                     s.joint
                 )));
             }
-            let ok = conditions(j * grid.width() + i);
+            let mut ok = conditions(j * grid.width() + i);
+            // A pose the grid blocks or cuts off may still be free in exact geometry near
+            // the grid's boundary (see `exact`).
+            if let Some(clearance) = self.settings.boundary_clearance {
+                if !(ok[0] && ok[1]) && self.exact_base(state, &before, [x, y], clearance)? {
+                    (ok[0], ok[1]) = (true, true);
+                }
+                if !ok[3] && self.exact_base(&after_state, &after, [x, y], clearance)? {
+                    ok[3] = true;
+                }
+            }
             if let Some(k) = ok.iter().position(|c| !c) {
                 return Ok(Some(format!("base pose ({x}, {y}) {}", WHAT[k])));
             }

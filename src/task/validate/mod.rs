@@ -27,6 +27,7 @@ use crate::scene::SceneModel;
 
 mod base_pose;
 mod cells;
+mod exact;
 mod replay;
 
 use replay::Replay;
@@ -94,6 +95,15 @@ pub struct Validation {
 ///      [`part_footprint`]s at values spaced so that no point moves more than half a cell,
 ///      inflated by `max(radius − resolution·√2, 0)` (see below);
 ///    - `c`'s cell is free and connected to the start cell in the state after the move;
+///    - with [`TaskSettings::boundary_clearance`] `Some(m)`, a recorded `c` whose cell fails
+///      the first or the last of these occupancy rules passes it in exact geometry instead
+///      when, at that state, parry's distance from the robot's footprint at `c` (a vertical
+///      cylinder of the robot radius spanning the grid's height band) to every base shape and
+///      part collider in the band exceeds `m` (less 1e-9), and a chain of straight moves,
+///      each a parry shape cast of the footprint that touches nothing, leads from `c` through
+///      side-neighbouring cells (each entered at the first contact-free point of a 7 × 7
+///      lattice over the cell that such a move reaches) to the centre of a free cell
+///      connected to the start cell;
 ///
 ///    With [`ManipulationSettings::segments`](super::ManipulationSettings::segments) `S >= 2`
 ///    a `c` that covers only a prefix `p_0..=p_e` (`e >= 1`, from the front at `p_0`) is in
