@@ -40,9 +40,21 @@ pub struct RobotArgs<'a> {
     pub base: crate::plan::BaseArg,
 }
 
+/// The motion layer's options from the command line.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct MotionOptions {
+    /// The planner's seed (`None`: its default).
+    pub seed: Option<u64>,
+    /// The most segments per step (`None`: the planner's default).
+    pub max_segments: Option<usize>,
+    /// Whether whole-body manipulation is tried.
+    pub whole_body: bool,
+    /// The largest turn (rad) of a bar grasp about the bar (`None`: along the normal only).
+    pub bar_turn: Option<f64>,
+}
+
 /// Plans with motion for `robot` (a description, a URDF path, or `gen3`) and writes the document to
-/// `out_path` or `out`. `motion_options` are the motion layer's seed, the most segments per
-/// step (`None`: the planner's defaults) and whether whole-body manipulation is on.
+/// `out_path` or `out`, with the motion layer's `motion_options`.
 ///
 /// # Errors
 /// An unreadable or malformed robot URDF, a goal without a robot start pose, a backend
@@ -55,7 +67,7 @@ pub fn run(
     model: &SceneModel,
     problem: &Problem,
     settings: TaskSettings,
-    motion_options: (Option<u64>, Option<usize>, bool),
+    motion_options: MotionOptions,
     budget: (Duration, &str),
     out_path: Option<&Path>,
     out: &mut dyn Write,
@@ -92,7 +104,12 @@ mod imp {
         model: &SceneModel,
         problem: &Problem,
         settings: TaskSettings,
-        (seed, max_segments, whole_body): (Option<u64>, Option<usize>, bool),
+        MotionOptions {
+            seed,
+            max_segments,
+            whole_body,
+            bar_turn,
+        }: MotionOptions,
         (budget, budget_text): (Duration, &str),
         out_path: Option<&Path>,
         out: &mut dyn Write,
@@ -176,8 +193,13 @@ mod imp {
         let name = robot_model.name().to_string();
         let planner = HierarchicalPlanner::new(robot_model, {
             let defaults = PlannerSettings::default();
+            let mut placement = defaults.placement.clone();
+            if let Some(turn) = bar_turn {
+                placement.bar_turn = turn;
+            }
             let s = PlannerSettings {
                 task: settings,
+                placement,
                 max_segments: max_segments.unwrap_or(defaults.max_segments),
                 whole_body: whole_body.then(WholeBodySettings::default),
                 ..defaults
@@ -234,7 +256,7 @@ mod imp {
         _model: &SceneModel,
         _problem: &Problem,
         _settings: TaskSettings,
-        _motion_options: (Option<u64>, Option<usize>, bool),
+        _motion_options: MotionOptions,
         _budget: (Duration, &str),
         _out_path: Option<&Path>,
         _out: &mut dyn Write,

@@ -1,6 +1,6 @@
 //! `kinscene plan --scene S.urdf --goal G.toml [--budget 10s] [--out plan.json]
 //! [--strategy search|random|paper] [--seed N] [--robot ROBOT.toml|URDF|gen3]
-//! [--base holonomic|differential] [--max-segments N] [--whole-body]
+//! [--base holonomic|differential] [--max-segments N] [--whole-body] [--bar-turn RAD]
 //! [--tool-link LINK] [--srdf FILE]
 //! [--arm-root LINK] [--frozen JOINT=VALUE ...] [--contact-link LINK ...] [--tool-approach X,Y,Z]
 //! [--package NAME=PATH ...]`:
@@ -115,6 +115,12 @@ pub struct Args {
     /// executes faster [default: off, the base stands still while the arm moves].
     #[arg(long, requires = "robot")]
     whole_body: bool,
+    /// With a robot: also grasp a bar handle from directions turned about the bar's long axis,
+    /// by up to this angle (radians, 0 to pi/2) either way, when the grasp along the handle's
+    /// normal does not cover a step (a door opened far, its handle facing a neighbouring
+    /// cabinet); knobs are grasped along the normal only [default: 0, along the normal].
+    #[arg(long, value_name = "RAD", value_parser = parse_bar_turn, requires = "robot")]
+    bar_turn: Option<f64>,
     /// With a robot URDF: the link whose frame is the tool (TCP, +z the approach direction)
     /// [default: tool_frame]. The `--package` paths also resolve the robot's mesh URIs.
     #[arg(long, value_name = "LINK", requires = "robot")]
@@ -147,6 +153,16 @@ pub struct Args {
 }
 
 /// Parses a segment count, at least 1.
+/// Parses an angle in [0, pi/2] radians.
+fn parse_bar_turn(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(a) if (0.0..=std::f64::consts::FRAC_PI_2).contains(&a) => Ok(a),
+        _ => Err(format!(
+            "{s:?} is not an angle from 0 to pi/2 (1.5708) radians"
+        )),
+    }
+}
+
 fn parse_segments(s: &str) -> Result<usize, String> {
     match s.trim().parse::<usize>() {
         Ok(n) if n >= 1 => Ok(n),
@@ -266,7 +282,12 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<Verdict, CliError> {
             &model,
             &problem,
             settings,
-            (args.seed, args.max_segments, args.whole_body),
+            crate::motion::MotionOptions {
+                seed: args.seed,
+                max_segments: args.max_segments,
+                whole_body: args.whole_body,
+                bar_turn: args.bar_turn,
+            },
             (budget, args.budget.trim()),
             args.out.as_deref(),
             out,

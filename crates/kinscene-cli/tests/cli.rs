@@ -796,6 +796,54 @@ fn whole_body_moves_the_base_during_the_wide_door_and_needs_a_robot() {
 }
 
 #[test]
+fn turned_bar_grasps_open_the_corner_doors_back_first_and_the_plan_validates() {
+    // examples/scenes/goals/corner_order.toml: the back corner door to 1.2 rad and the side
+    // door to 0.6 rad. Past about 0.8 rad each corner handle faces the neighbouring run, so
+    // the Gen3 needs a grasp turned about the bar (`--bar-turn`); the side door's sweep meets
+    // the back door's, so the back door goes first (the goal file's header has the numbers).
+    // The plan is checked step by step by `kinscene validate` (the task level's own validator,
+    // which replays the sweeps in exact geometry); the grasp contact rule of these plans is
+    // re-checked in the library's tests (tests/planner/corner.rs).
+    let goal = goal_path("corner_order.toml");
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("corner_order.json");
+    let output = plan_kitchen(
+        &goal,
+        &[
+            "--robot",
+            "gen3",
+            "--whole-body",
+            "--bar-turn",
+            "1.2",
+            "--seed",
+            "1",
+            "--out",
+            arg(&out),
+        ],
+    );
+    assert_eq!(output.status.code(), Some(0), "{output:?}");
+    let doc: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let steps = step_names(&doc);
+    assert_eq!(
+        steps.first().map(String::as_str),
+        Some("corner_door_back_hinge"),
+        "{steps:?}"
+    );
+    assert!(
+        steps.iter().any(|s| s == "corner_door_side_hinge"),
+        "{steps:?}"
+    );
+    let validated = validate_kitchen(&goal, &out);
+    assert_eq!(validated.status.code(), Some(0), "{validated:?}");
+    for bad in ["2", "-0.1", "NaN", "wide"] {
+        // Outside [0, pi/2]: rejected by the argument parser before any file is read.
+        let flag = format!("--bar-turn={bad}");
+        let output = plan_kitchen(&goal, &["--robot", "gen3", &flag]);
+        assert_eq!(output.status.code(), Some(2), "{bad}: {output:?}");
+        assert!(String::from_utf8_lossy(&output.stderr).contains("--bar-turn"));
+    }
+}
+
+#[test]
 fn plan_with_a_bad_robot_file_is_bad_input() {
     let scene = counter_path();
     let goal = scratch_file(
