@@ -317,13 +317,8 @@ impl RobotCollision {
     /// shapes of the last link (the fingertips). A conservative bound (a box encloses its
     /// shape). `None` if the robot has no contact shapes on its last link.
     pub fn fingertip_reach(&self, robot: &RobotModel) -> Option<f64> {
-        let last = self.shapes.len().checked_sub(1)?;
-        let tool_from_last = robot.last_from_tool().inverse();
-        self.shapes[last]
-            .iter()
-            .zip(&self.contact[last])
-            .filter(|(_, c)| **c)
-            .map(|(s, _)| s.world_box(&tool_from_last).max.z)
+        self.fingertip_boxes(robot)?
+            .map(|b| b.max.z)
             .reduce(f64::max)
     }
 
@@ -332,17 +327,26 @@ impl RobotCollision {
     /// link (the fingers' half thickness across their closing direction for a two-finger
     /// gripper). `None` if the robot has no contact shapes on its last link.
     pub fn fingertip_side_reach(&self, robot: &RobotModel) -> Option<f64> {
+        self.fingertip_boxes(robot)?
+            .map(|b| b.max.y.abs().max(b.min.y.abs()))
+            .reduce(f64::max)
+    }
+
+    /// The bounding boxes, in the tool frame, of the contact shapes of the last link (the
+    /// fingers); `None` if the robot has no links.
+    fn fingertip_boxes<'a>(
+        &'a self,
+        robot: &RobotModel,
+    ) -> Option<impl Iterator<Item = WorldBox> + 'a> {
         let last = self.shapes.len().checked_sub(1)?;
         let tool_from_last = robot.last_from_tool().inverse();
-        self.shapes[last]
-            .iter()
-            .zip(&self.contact[last])
-            .filter(|(_, c)| **c)
-            .map(|(s, _)| {
-                let b = s.world_box(&tool_from_last);
-                b.max.y.abs().max(b.min.y.abs())
-            })
-            .reduce(f64::max)
+        Some(
+            self.shapes[last]
+                .iter()
+                .zip(&self.contact[last])
+                .filter(|(_, c)| **c)
+                .map(move |(s, _)| s.world_box(&tool_from_last)),
+        )
     }
 
     /// The links rigidly attached to the base (they move with the base only, whatever the arm
