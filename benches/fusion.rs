@@ -3,7 +3,11 @@
 //! accuracy, the mean / max axis error (°), pivot error (cm, revolute only) and travel error
 //! (° of the swept angle, or cm of the pulled distance), and the 95 % region's coverage (axis
 //! and, revolute, pivot inside). A wrong type counts in the accuracy only; its errors are left
-//! out of the means.
+//! out of the means. Rows `+pull` run discovery's keep-pulling rule on the same seeds: while
+//! the estimate is not confident by `DiscoverySettings::doubts` (default limits), the part is
+//! pulled `extra_pull` further (to its limit, at most `max_extra_pulls` times) and estimated
+//! from all the motion so far; the kept estimate is scored against the motion it was made
+//! from, with the mean number of further pulls and how many kept estimates are confident.
 //!
 //! A plain `main` (no criterion: it measures accuracy, not time):
 //! `cargo bench --bench fusion`, or in the dev profile `cargo bench --profile dev --bench fusion`.
@@ -17,10 +21,11 @@
 #[allow(dead_code)]
 mod hard;
 
-use hard::{HardTruth, hard_cases, observe};
+use hard::{HardTruth, Pulled, hard_cases, once, pull_until_confident};
 use kinscene::articulation::{
     ArticulationEstimator, Estimate, Fused, JointEstimate, Proprioceptive, TwoView,
 };
+use kinscene::discovery::DiscoverySettings;
 
 /// One estimate against the truth: type right, axis °, pivot cm, travel error (° or cm),
 /// covered.
@@ -95,9 +100,19 @@ fn main() {
         Box::new(Proprioceptive::default()),
         Box::new(Fused::default()),
     ];
-    println!("{} seeds", seeds.len());
+    let pulling = DiscoverySettings::default();
     println!(
-        "{:<24} {:>5} {:<15} {:>5} {:>14} {:>14} {:>12} {:>6}",
+        "{} seeds; rows +pull: keep pulling {} m more while in doubt (at most {} times, to the \
+         limit), discovery's default confidence limits (axis {:.1}°, pivot {} cm, type {})",
+        seeds.len(),
+        pulling.extra_pull,
+        pulling.max_extra_pulls,
+        pulling.confident_axis_95.to_degrees(),
+        pulling.confident_pivot_95 * 100.0,
+        pulling.confident_type_probability
+    );
+    println!(
+        "{:<24} {:>5} {:<20} {:>5} {:>14} {:>14} {:>12} {:>6} {:>6} {:>6}",
         "class",
         "σ mm",
         "estimator",
@@ -105,7 +120,9 @@ fn main() {
         "axis ° mean/max",
         "pivot cm m/max",
         "travel err",
-        "cov95"
+        "cov95",
+        "pulls",
+        "conf"
     );
     let only = std::env::var("KINSCENE_FUSION_CLASSES").ok();
     let details = std::env::var("KINSCENE_FUSION_DETAILS").ok();
@@ -114,45 +131,57 @@ fn main() {
             .is_none_or(|o| o.split(',').any(|w| c.name.contains(w.trim())))
     }) {
         for &sigma in &sigmas {
-            let observations: Vec<_> = seeds.iter().map(|&s| observe(&case, sigma, s)).collect();
             for est in &estimators {
-                let rows: Vec<Row> = observations
-                    .iter()
-                    .zip(&seeds)
-                    .map(|(o, seed)| {
-                        let e = est.estimate(&o.interaction()).expect("valid");
-                        let row = score(&case.truth, &e);
-                        if details
-                            .as_deref()
-                            .is_some_and(|d| d == "all" || !row.kind_ok)
-                        {
-                            eprintln!(
-                                "{} σ {sigma} seed {seed} {}: {}",
-                                case.name,
-                                est.name(),
-                                e.details
-                            );
-                        }
-                        row
-                    })
-                    .collect();
-                let ok: Vec<&Row> = rows.iter().filter(|r| r.kind_ok).collect();
-                let axes: Vec<f64> = ok.iter().map(|r| r.axis).collect();
-                let pivots: Vec<f64> = ok.iter().filter_map(|r| r.pivot).collect();
-                let travels: Vec<f64> = ok.iter().filter_map(|r| r.travel).collect();
-                println!(
-                    "{:<24} {:>5.0} {:<15} {:>3}/{} {:>14} {:>14} {:>12} {:>3}/{}",
-                    case.name,
-                    sigma * 1000.0,
-                    est.name(),
-                    ok.len(),
-                    rows.len(),
-                    stat(&axes),
-                    stat(&pivots),
-                    signed(&travels),
-                    rows.iter().filter(|r| r.covered).count(),
-                    rows.len()
-                );
+                for keep_pulling in [false, true] {
+                    let runs: Vec<Pulled> = seeds
+                        .iter()
+                        .map(|&seed| {
+                            let run = if keep_pulling {
+                                pull_until_confident(&case, est.as_ref(), &pulling, sigma, seed)
+                            } else {
+                                once(&case, est.as_ref(), &pulling, sigma, seed)
+                            };
+                            let row = score(&run.truth, &run.estimate);
+                            if details
+                                .as_deref()
+                                .is_some_and(|d| d == "all" || !row.kind_ok)
+                            {
+                                eprintln!(
+                                    "{} σ {sigma} seed {seed} {}{}: {}",
+                                    case.name,
+                                    est.name(),
+                                    if keep_pulling { "+pull" } else { "" },
+                                    run.estimate.details
+                                );
+                            }
+                            run
+                        })
+                        .collect();
+                    let rows: Vec<Row> =
+                        runs.iter().map(|r| score(&r.truth, &r.estimate)).collect();
+                    let ok: Vec<&Row> = rows.iter().filter(|r| r.kind_ok).collect();
+                    let axes: Vec<f64> = ok.iter().map(|r| r.axis).collect();
+                    let pivots: Vec<f64> = ok.iter().filter_map(|r| r.pivot).collect();
+                    let travels: Vec<f64> = ok.iter().filter_map(|r| r.travel).collect();
+                    let pulls =
+                        runs.iter().map(|r| r.pulls).sum::<usize>() as f64 / runs.len() as f64;
+                    println!(
+                        "{:<24} {:>5.0} {:<20} {:>3}/{} {:>14} {:>14} {:>12} {:>3}/{} {:>6.2} {:>3}/{}",
+                        case.name,
+                        sigma * 1000.0,
+                        format!("{}{}", est.name(), if keep_pulling { "+pull" } else { "" }),
+                        ok.len(),
+                        rows.len(),
+                        stat(&axes),
+                        stat(&pivots),
+                        signed(&travels),
+                        rows.iter().filter(|r| r.covered).count(),
+                        rows.len(),
+                        pulls,
+                        runs.iter().filter(|r| r.confident).count(),
+                        runs.len()
+                    );
+                }
             }
         }
     }

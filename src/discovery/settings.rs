@@ -4,7 +4,9 @@ use serde::{Deserialize, Serialize};
 
 use super::error::{DiscoveryError, check_nonneg, check_positive, check_range};
 use super::interface::Camera;
+use super::log::Doubt;
 use crate::InvalidSetting;
+use crate::articulation::Estimate;
 #[cfg(doc)]
 use crate::articulation::Uncertainty;
 use crate::scene::collision::SweepSettings;
@@ -214,6 +216,27 @@ impl Default for DiscoverySettings {
 }
 
 impl DiscoverySettings {
+    /// The confidence limits that `estimate` does not meet (empty: confident), as the
+    /// keep-pulling loop of [`discover`](super::discover) (step 6) judges them: the axis's
+    /// 95 % half-angle above `confident_axis_95`, a revolute pivot's 95 % radius above
+    /// `confident_pivot_95`, the type probability below `confident_type_probability`, or no
+    /// uncertainty at all. For a loop of your own over [`ArticulationEstimator`]s.
+    ///
+    /// [`ArticulationEstimator`]: crate::articulation::ArticulationEstimator
+    #[must_use]
+    pub fn doubts(&self, estimate: &Estimate) -> Vec<Doubt> {
+        super::run::doubts(estimate, self)
+    }
+
+    /// How far `estimate` is from confident: the largest ratio of a 95 % region to its limit
+    /// (axis, pivot) and of `1 − type probability` to `1 − confident_type_probability`; at
+    /// most 1 when [`doubts`](Self::doubts) is empty, ∞ without uncertainty. The keep-pulling
+    /// loop keeps the estimate with the least.
+    #[must_use]
+    pub fn confidence_shortfall(&self, estimate: &Estimate) -> f64 {
+        super::run::shortfall(estimate, self)
+    }
+
     /// Checks every field.
     ///
     /// # Errors

@@ -9,9 +9,12 @@
 
 use kinscene::articulation::synthetic::{DepthCamera, DepthNoise, SyntheticBox, render};
 use kinscene::articulation::{
-    CHI2_2DOF_95, Estimate, Interaction, JointEstimate, JointKindEstimate, PointCloud, Screw,
-    axis_angle_error, axis_position_error,
+    ArticulationEstimator, CHI2_2DOF_95, Estimate, Interaction, JointEstimate, JointKindEstimate,
+    PointCloud, Screw, axis_angle_error, axis_position_error,
 };
+use kinscene::discovery::DiscoverySettings;
+use std::f64::consts::FRAC_PI_2;
+
 use nalgebra::{Isometry3, Point3, Translation3, Unit, UnitQuaternion, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -117,6 +120,30 @@ pub struct HardCase {
     pub contact: Point3<f64>,
     pub grasp: Isometry3<f64>,
     pub cameras: (DepthCamera, DepthCamera),
+    /// The joint's limit from closed: rad (revolute) or m (prismatic).
+    pub limit: f64,
+}
+
+impl HardCase {
+    /// The truth after the robot pulled `extra` (m of contact travel along the part's path)
+    /// further than `truth`, stopped at the case's limit: a keep-pulling round.
+    pub fn pulled_further(&self, truth: &HardTruth, extra: f64) -> HardTruth {
+        match *truth {
+            HardTruth::Revolute { axis, pivot, angle } => {
+                let offset = self.contact - pivot;
+                let radius = (offset - axis.into_inner() * offset.dot(&axis)).norm();
+                HardTruth::Revolute {
+                    axis,
+                    pivot,
+                    angle: (angle + extra / radius).min(self.limit),
+                }
+            }
+            HardTruth::Prismatic { axis, distance } => HardTruth::Prismatic {
+                axis,
+                distance: (distance + extra).min(self.limit),
+            },
+        }
+    }
 }
 
 /// One observation of a hard case.
@@ -238,6 +265,7 @@ fn small_door(name: &'static str, lean_deg: f64, angle_deg: f64) -> HardCase {
         contact,
         grasp: grasp(&f, contact),
         cameras: cameras(&f, w, h),
+        limit: FRAC_PI_2,
     }
 }
 
@@ -287,6 +315,7 @@ fn oven_door() -> HardCase {
         contact,
         grasp: grasp(&f, contact),
         cameras: cameras(&f, w, h),
+        limit: FRAC_PI_2,
     }
 }
 
@@ -344,6 +373,8 @@ fn sliding_door() -> HardCase {
         contact,
         grasp: grasp(&f, contact),
         cameras: cameras(&f, w, h),
+        // The moving panel covers the fixed one.
+        limit: w / 2.0,
     }
 }
 
@@ -376,6 +407,7 @@ fn partial_view_door() -> HardCase {
         contact,
         grasp: grasp(&f, contact),
         cameras: (cam(0.0, -0.6, 0.3), cam(0.08, -0.65, 0.32)),
+        limit: FRAC_PI_2,
     }
 }
 
@@ -431,6 +463,8 @@ fn rotated_drawer() -> HardCase {
         contact,
         grasp: grasp(&f, contact),
         cameras: cameras(&f, w, h),
+        // Out to 5 cm short of its depth.
+        limit: d - 0.05,
     }
 }
 
@@ -456,7 +490,13 @@ fn gauss(rng: &mut ChaCha8Rng) -> f64 {
 /// Clouds at depth noise `sigma` (m) and the path (2 mm / 1°, free roll) of one seed; the
 /// contacts have σ/2 noise.
 pub fn observe(c: &HardCase, sigma: f64, seed: u64) -> HardObservation {
-    let moved = c.truth.motion(1.0);
+    observe_to(c, &c.truth, sigma, seed)
+}
+
+/// [`observe`] with the part moved by `truth` (the case's own joint, pulled further): the
+/// path has 60 poses per the case's own travel, so the same density.
+pub fn observe_to(c: &HardCase, truth: &HardTruth, sigma: f64, seed: u64) -> HardObservation {
+    let moved = truth.motion(1.0);
     let mut pre_boxes = c.statics.clone();
     pre_boxes.extend(c.part.iter().copied());
     let mut post_boxes = c.statics.clone();
@@ -475,11 +515,15 @@ pub fn observe(c: &HardCase, sigma: f64, seed: u64) -> HardObservation {
     let v3 = |s: f64, rng: &mut ChaCha8Rng| Vector3::new(gauss(rng), gauss(rng), gauss(rng)) * s;
     let contact_pre = c.contact + v3(sigma / 2.0, &mut rng);
     let contact_post = moved * c.contact + v3(sigma / 2.0, &mut rng);
-    let n = 60;
+    let travel = |t: &HardTruth| match *t {
+        HardTruth::Revolute { angle, .. } => angle,
+        HardTruth::Prismatic { distance, .. } => distance,
+    };
+    let n = (60.0 * travel(truth) / travel(&c.truth)).round().max(2.0) as usize;
     let mut roll = 0.0;
     let ee_poses = (0..n)
         .map(|k| {
-            let pose = c.truth.motion(k as f64 / (n - 1) as f64) * c.grasp;
+            let pose = truth.motion(k as f64 / (n - 1) as f64) * c.grasp;
             roll += 0.5f64.to_radians() * gauss(&mut rng);
             let rolled = pose.rotation * UnitQuaternion::from_axis_angle(&Vector3::z_axis(), roll);
             let tilt = UnitQuaternion::from_scaled_axis(v3(1f64.to_radians(), &mut rng));
@@ -497,4 +541,78 @@ pub fn observe(c: &HardCase, sigma: f64, seed: u64) -> HardObservation {
         contact_post,
         ee_poses,
     }
+}
+
+/// One seed's kept estimate, the truth it was made at, the further pulls made and whether
+/// the kept estimate is confident.
+pub struct Pulled {
+    pub estimate: Estimate,
+    pub truth: HardTruth,
+    pub pulls: usize,
+    pub confident: bool,
+}
+
+/// The estimate from the case's own motion.
+pub fn once(
+    case: &HardCase,
+    est: &dyn ArticulationEstimator,
+    s: &DiscoverySettings,
+    sigma: f64,
+    seed: u64,
+) -> Pulled {
+    let o = observe_to(case, &case.truth, sigma, seed);
+    let estimate = est.estimate(&o.interaction()).expect("valid");
+    Pulled {
+        confident: s.doubts(&estimate).is_empty(),
+        estimate,
+        truth: case.truth,
+        pulls: 0,
+    }
+}
+
+/// Discovery's keep-pulling rule (`kinscene::discovery::discover`, step 6) on the case: from
+/// its own motion, while the estimate has doubts, the part is short of its limit and fewer
+/// than `max_extra_pulls` further pulls were made, the contact moves `extra_pull` further and
+/// the estimator sees all the motion so far (the first cloud, the new one, the whole path);
+/// the estimate with the least confidence shortfall is kept.
+pub fn pull_until_confident(
+    case: &HardCase,
+    est: &dyn ArticulationEstimator,
+    s: &DiscoverySettings,
+    sigma: f64,
+    seed: u64,
+) -> Pulled {
+    let mut truth = case.truth;
+    let mut best: Option<(f64, Pulled)> = None;
+    for pulls in 0..=s.max_extra_pulls {
+        let o = observe_to(case, &truth, sigma, seed);
+        let estimate = est.estimate(&o.interaction()).expect("valid");
+        let confident = s.doubts(&estimate).is_empty();
+        let short = s.confidence_shortfall(&estimate);
+        if best.as_ref().is_none_or(|b| short < b.0) {
+            best = Some((
+                short,
+                Pulled {
+                    estimate,
+                    truth,
+                    pulls,
+                    confident,
+                },
+            ));
+        }
+        let further = case.pulled_further(&truth, s.extra_pull);
+        let at_limit = match (truth, further) {
+            (HardTruth::Revolute { angle: a, .. }, HardTruth::Revolute { angle: b, .. }) => b <= a,
+            (
+                HardTruth::Prismatic { distance: a, .. },
+                HardTruth::Prismatic { distance: b, .. },
+            ) => b <= a,
+            _ => true,
+        };
+        if confident || at_limit {
+            break;
+        }
+        truth = further;
+    }
+    best.expect("at least one round").1
 }

@@ -18,6 +18,8 @@ use crate::scene::{SceneModel, State};
 mod confident;
 mod pull;
 
+pub(super) use confident::{doubts, shortfall};
+
 use pull::pulled;
 
 /// A refined normal more than this far (rad) from the registered one is not trusted: 45°.
