@@ -15,7 +15,9 @@
 //! the depth noise levels in mm (comma-separated, `2,5,10` by default),
 //! `KINSCENE_FUSION_CLASSES` a comma-separated list of parts of the class names to run
 //! (all by default); with `KINSCENE_FUSION_DETAILS` set, the details of every estimate of
-//! the wrong type go to stderr (of every estimate with `KINSCENE_FUSION_DETAILS=all`).
+//! the wrong type go to stderr (of every estimate with `KINSCENE_FUSION_DETAILS=all`), with
+//! the errors and 95 % regions; `KINSCENE_FUSION_CONFIDENT=DEG,M` sets the keep-pulling
+//! rule's axis and pivot limits (`confident_axis_95` in degrees, `confident_pivot_95`).
 
 #[path = "../tests/articulation/hard.rs"]
 #[allow(dead_code)]
@@ -100,7 +102,18 @@ fn main() {
         Box::new(Proprioceptive::default()),
         Box::new(Fused::default()),
     ];
-    let pulling = DiscoverySettings::default();
+    let mut pulling = DiscoverySettings::default();
+    if let Some((axis_deg, pivot_m)) =
+        std::env::var("KINSCENE_FUSION_CONFIDENT")
+            .ok()
+            .and_then(|v| {
+                let (a, p) = v.split_once(',')?;
+                Some((a.trim().parse::<f64>().ok()?, p.trim().parse::<f64>().ok()?))
+            })
+    {
+        pulling.confident_axis_95 = axis_deg.to_radians();
+        pulling.confident_pivot_95 = pivot_m;
+    }
     println!(
         "{} seeds; rows +pull: keep pulling {} m more while in doubt (at most {} times, to the \
          limit), discovery's default confidence limits (axis {:.1}°, pivot {} cm, type {})",
@@ -146,11 +159,18 @@ fn main() {
                                 .as_deref()
                                 .is_some_and(|d| d == "all" || !row.kind_ok)
                             {
+                                let regions = run.estimate.uncertainty.map(|u| {
+                                    (u.axis_half_angle_95().to_degrees(), u.pivot_radius_95())
+                                });
                                 eprintln!(
-                                    "{} σ {sigma} seed {seed} {}{}: {}",
+                                    "{} σ {sigma} seed {seed} {}{}: axis {:.2}° pivot {:?} cm, \
+                                     95 % regions (°, m) {regions:?}, {} pulls: {}",
                                     case.name,
                                     est.name(),
                                     if keep_pulling { "+pull" } else { "" },
+                                    row.axis,
+                                    row.pivot,
+                                    run.pulls,
                                     run.estimate.details
                                 );
                             }
