@@ -7,7 +7,8 @@
 //! the estimate is not confident by `DiscoverySettings::doubts` (default limits), the part is
 //! pulled `extra_pull` further (to its limit, at most `max_extra_pulls` times) and estimated
 //! from all the motion so far; the kept estimate is scored against the motion it was made
-//! from, with the mean number of further pulls and how many kept estimates are confident.
+//! from, with the mean number of further pulls before it and how many kept estimates are
+//! confident.
 //!
 //! A plain `main` (no criterion: it measures accuracy, not time):
 //! `cargo bench --bench fusion`, or in the dev profile `cargo bench --profile dev --bench fusion`.

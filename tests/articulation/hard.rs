@@ -39,6 +39,14 @@ pub enum HardTruth {
 }
 
 impl HardTruth {
+    /// The travel from closed: rad (revolute) or m (prismatic).
+    pub fn travel(&self) -> f64 {
+        match *self {
+            HardTruth::Revolute { angle, .. } => angle,
+            HardTruth::Prismatic { distance, .. } => distance,
+        }
+    }
+
     /// The part's motion after `fraction` of the travel.
     pub fn motion(&self, fraction: f64) -> Isometry3<f64> {
         match *self {
@@ -515,11 +523,7 @@ pub fn observe_to(c: &HardCase, truth: &HardTruth, sigma: f64, seed: u64) -> Har
     let v3 = |s: f64, rng: &mut ChaCha8Rng| Vector3::new(gauss(rng), gauss(rng), gauss(rng)) * s;
     let contact_pre = c.contact + v3(sigma / 2.0, &mut rng);
     let contact_post = moved * c.contact + v3(sigma / 2.0, &mut rng);
-    let travel = |t: &HardTruth| match *t {
-        HardTruth::Revolute { angle, .. } => angle,
-        HardTruth::Prismatic { distance, .. } => distance,
-    };
-    let n = (60.0 * travel(truth) / travel(&c.truth)).round().max(2.0) as usize;
+    let n = (60.0 * truth.travel() / c.truth.travel()).round().max(2.0) as usize;
     let mut roll = 0.0;
     let ee_poses = (0..n)
         .map(|k| {
@@ -543,8 +547,8 @@ pub fn observe_to(c: &HardCase, truth: &HardTruth, sigma: f64, seed: u64) -> Har
     }
 }
 
-/// One seed's kept estimate, the truth it was made at, the further pulls made and whether
-/// the kept estimate is confident.
+/// One seed's kept estimate, the truth it was made at, the further pulls made before it (as
+/// discovery's log counts them) and whether it is confident.
 pub struct Pulled {
     pub estimate: Estimate,
     pub truth: HardTruth,
@@ -552,7 +556,7 @@ pub struct Pulled {
     pub confident: bool,
 }
 
-/// The estimate from the case's own motion.
+/// The estimate from the case's own motion: the rule below with no further pull.
 pub fn once(
     case: &HardCase,
     est: &dyn ArticulationEstimator,
@@ -560,14 +564,11 @@ pub fn once(
     sigma: f64,
     seed: u64,
 ) -> Pulled {
-    let o = observe_to(case, &case.truth, sigma, seed);
-    let estimate = est.estimate(&o.interaction()).expect("valid");
-    Pulled {
-        confident: s.doubts(&estimate).is_empty(),
-        estimate,
-        truth: case.truth,
-        pulls: 0,
-    }
+    let s = DiscoverySettings {
+        max_extra_pulls: 0,
+        ..s.clone()
+    };
+    pull_until_confident(case, est, &s, sigma, seed)
 }
 
 /// Discovery's keep-pulling rule (`kinscene::discovery::discover`, step 6) on the case: from
@@ -601,15 +602,7 @@ pub fn pull_until_confident(
             ));
         }
         let further = case.pulled_further(&truth, s.extra_pull);
-        let at_limit = match (truth, further) {
-            (HardTruth::Revolute { angle: a, .. }, HardTruth::Revolute { angle: b, .. }) => b <= a,
-            (
-                HardTruth::Prismatic { distance: a, .. },
-                HardTruth::Prismatic { distance: b, .. },
-            ) => b <= a,
-            _ => true,
-        };
-        if confident || at_limit {
+        if confident || further.travel() <= truth.travel() {
             break;
         }
         truth = further;
