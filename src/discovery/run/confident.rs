@@ -304,18 +304,18 @@ mod tests {
         }
     }
 
-    /// Against the default limits (4°, 4 cm, 0.99): each limit that is exceeded is one doubt;
-    /// the shortfall is the largest ratio (5° / 4° = 1.25; (1 − 0.95) / 0.01 = 5).
+    /// Against the default limits (2°, 2 cm, 0.99): each limit that is exceeded is one doubt;
+    /// the shortfall is the largest ratio (2.5° / 2° = 1.25; (1 − 0.95) / 0.01 = 5).
     #[test]
     fn doubts_and_shortfall() {
         let s = DiscoverySettings::default();
-        let ok = revolute(3.0, 0.03, 0.999);
+        let ok = revolute(1.5, 0.015, 0.999);
         assert!(doubts(&ok, &s).is_empty());
         assert!((shortfall(&ok, &s) - 0.75).abs() < 1e-9);
-        let wide = revolute(5.0, 0.03, 0.999);
+        let wide = revolute(2.5, 0.015, 0.999);
         assert!(matches!(doubts(&wide, &s)[..], [Doubt::Axis { .. }]));
         assert!((shortfall(&wide, &s) - 1.25).abs() < 1e-9);
-        let all = revolute(5.0, 0.05, 0.95);
+        let all = revolute(2.5, 0.025, 0.95);
         assert_eq!(doubts(&all, &s).len(), 3);
         assert!((shortfall(&all, &s) - 5.0).abs() < 1e-6);
         let unknown = Estimate::unknown("too little motion");
