@@ -4,7 +4,7 @@
 //! bash setup.sh && cargo run --release -p kinscene-kitchen              # the full run
 //! cargo run --release -p kinscene-kitchen -- --quick                    # small sizes
 //! cargo run --release -p kinscene-kitchen -- --experiments fig5,table2 --runs 3 --seed 7
-//! cargo run --release -p kinscene-kitchen -- --quick --experiments table1 --whole-body
+//! cargo run --release -p kinscene-kitchen -- --quick --experiments table1 --fixed-base
 //! cargo run --release -p kinscene-kitchen -- --scene examples/scenes/galley.urdf \
 //!     --goal examples/scenes/goals/galley.toml --out out/galley    # another scene
 //! ```
@@ -109,10 +109,18 @@ struct Args {
     /// Put wall-clock times into the report.
     #[arg(long)]
     wall_clock: bool,
-    /// Whole-body manipulation: the planner may open a part that no single base pose covers
-    /// with the base moving along with the arm (default off: the paper's fixed base).
+    /// The paper's fixed-base manipulation: no step moves the base along with the arm
+    /// (default: whole-body manipulation for steps no single base pose covers).
     #[arg(long)]
-    whole_body: bool,
+    fixed_base: bool,
+    /// Grasps turned about a bar handle by up to this angle (rad, 0 to π/2; default 1.2; 0:
+    /// the fingers across the bar only).
+    #[arg(long)]
+    bar_turn: Option<f64>,
+    /// Further pulls per handle while the estimate is not confident (discovery's
+    /// keep-pulling loop; default 0: the paper's Algorithm 1).
+    #[arg(long)]
+    extra_pulls: Option<usize>,
     /// No progress output.
     #[arg(long)]
     quiet: bool,
@@ -149,7 +157,8 @@ fn config(args: &Args) -> Result<Config, pipeline::PipelineError> {
         estimator: EstimatorChoice::parse(&args.estimator)?,
         planner_budget: args.budget,
         wall_clock: args.wall_clock,
-        whole_body: args.whole_body,
+        whole_body: base.whole_body && !args.fixed_base,
+        bar_turn: args.bar_turn.unwrap_or(base.bar_turn),
         head_rays: args.head_rays.or(base.head_rays),
         sequences: args.sequences.as_ref().map(|s| {
             s.split(',')
@@ -167,6 +176,7 @@ fn config(args: &Args) -> Result<Config, pipeline::PipelineError> {
             axis_snap: args
                 .axis_snap
                 .map_or(base.discovery.axis_snap, f64::to_radians),
+            max_extra_pulls: args.extra_pulls.unwrap_or(base.discovery.max_extra_pulls),
             ..base.discovery
         },
         scene: args.scene.clone().unwrap_or(base.scene.clone()),

@@ -22,6 +22,7 @@ pub use geometry::parry_shape;
 pub use parry3d_f64 as parry;
 pub use query::{Contact, collisions, collisions_of, distances, is_collision_free};
 pub use settings::{AllowedCollisions, Body, BodyName, CollisionSettings, SweepSettings};
+#[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
 pub(crate) use standoff::handle_front_shapes;
 pub use standoff::{handle_bar_axis, handle_standoff, handle_standoff_along};
 pub use sweep::{InconclusiveReason, SweepOutcome, SweepStatus, check_joint_motion};

@@ -77,6 +77,7 @@ pub fn handle_standoff_along(
 ///
 /// # Errors
 /// [`Error::UnknownId`] for a foreign handle id.
+#[cfg(all(feature = "ompl", feature = "pinocchio", feature = "casadi"))]
 pub(crate) fn handle_front_shapes(
     model: &SceneModel,
     handle: HandleId,

@@ -102,7 +102,8 @@ impl Report {
             s,
             "Configuration: {} run(s), seeds {}..={}; depth noise σ = {:.1} mm, detector noise \
              σ = {:.1} mm, grasp compliance σ = {:.1} mm, {:.1}°, fault rate {}; planner budget \
-             {} s per call; experiments: {}{}.\n",
+             {} s per call, {}, grasps turned about bar handles by up to {:.2} rad; \
+             experiments: {}{}.\n",
             c.runs,
             c.seed,
             c.seed.wrapping_add(c.runs as u64 - 1),
@@ -112,6 +113,12 @@ impl Report {
             c.grasp_tilt.to_degrees(),
             c.fault_rate,
             c.planner_budget,
+            if c.whole_body {
+                "whole-body manipulation where no single base pose covers a step"
+            } else {
+                "fixed-base manipulation (the paper's)"
+            },
+            c.bar_turn,
             c.experiments
                 .iter()
                 .map(|e| e.name())

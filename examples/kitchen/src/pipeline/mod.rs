@@ -45,7 +45,9 @@ use kinscene::scene::urdf;
 use super::report::svg;
 use super::sim;
 
-pub use config::{Config, EstimatorChoice, Experiment, ExploreScope, Method, ViewpointChoice};
+pub use config::{
+    Config, EstimatorChoice, Experiment, ExploreScope, KITCHEN_BAR_TURN, Method, ViewpointChoice,
+};
 pub use manipulation::{Category, PRISMATIC_TOLERANCE, REVOLUTE_TOLERANCE};
 pub use scene_run::{PlanSummary, SceneRunReport, run_scene};
 pub use sequences::{EXTRA_SEQUENCES, SEQUENCES, START_BASE};
@@ -162,12 +164,14 @@ fn selected_table1(config: &Config) -> Result<Vec<(String, f64)>, PipelineError>
 /// budget; a path that is hard to find (or does not exist) ends on the wall clock, and its
 /// verdict can then differ between two runs of the same seed. The larger budget makes that
 /// rare (seen once in two full runs with 1 s, in a Random baseline's refinement). With
-/// [`Config::whole_body`], whole-body manipulation with its default settings.
+/// [`Config::whole_body`], whole-body manipulation with its default settings; with
+/// [`Config::bar_turn`], grasps turned about bar handles up to that angle.
 fn planner_settings(config: &Config) -> PlannerSettings {
     let mut s = PlannerSettings::default();
     s.paths.seed = Some(config.seed);
     s.paths.budget = Duration::from_secs(3);
     s.whole_body = config.whole_body.then(WholeBodySettings::default);
+    s.placement.bar_turn = config.bar_turn;
     s
 }
 

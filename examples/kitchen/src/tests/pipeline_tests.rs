@@ -144,6 +144,14 @@ fn bad_configurations_are_typed_errors() {
             sequences: Some(vec!["no-such-sequence".into()]),
             ..Config::quick()
         },
+        Config {
+            bar_turn: 2.0,
+            ..Config::quick()
+        },
+        Config {
+            bar_turn: f64::NAN,
+            ..Config::quick()
+        },
     ] {
         assert!(
             matches!(run(&bad, None, false), Err(PipelineError::Config(_))),
