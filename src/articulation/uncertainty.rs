@@ -4,6 +4,8 @@
 
 use nalgebra::{Matrix2, Point3, Unit, Vector2, Vector3};
 
+use super::estimate::{Estimate, JointEstimate};
+
 /// The 95 % quantile of the χ² distribution with 2 degrees of freedom, `−2 ln 0.05`: a 2-d
 /// Gaussian puts 95 % of its mass inside the ellipse of squared Mahalanobis radius this.
 pub const CHI2_2DOF_95: f64 = 5.991_464_547_107_979;
@@ -132,6 +134,74 @@ impl Uncertainty {
     }
 }
 
+/// How `u`, the uncertainty of `joint`, relates to another estimate of the same joint in
+/// [`consistent_with`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Other {
+    /// From part of the same data (the fused estimator's path alone): the less precise
+    /// estimate, whose covariance bounds that of the difference.
+    Nested,
+    /// From other data (the path against the clouds): the difference has the sum of the two
+    /// covariances.
+    Independent,
+}
+
+/// `u`, the uncertainty of `joint`, widened where `other` (an estimate of the same joint from
+/// the gripper's path alone) disagrees: the two differ by the squared Mahalanobis distance
+/// `D` in the region of the difference (`other`'s own for [`Other::Nested`], the sum of the
+/// two, `u`'s expressed in `other`'s tangent bases, for [`Other::Independent`]); without a
+/// bias, `D` is of the order of its 2 degrees of freedom. A larger `D` is a disagreement
+/// `u` does not know about (a bias the clouds' residuals cannot show: which points a
+/// segmentation kept, a surface's sampling, a part of the front out of view), so the block
+/// is scaled by `D / 2` (Birge's ratio). Unchanged when `other` has another joint type or
+/// no uncertainty.
+pub(crate) fn consistent_with(
+    mut u: Uncertainty,
+    joint: &JointEstimate,
+    other: &Estimate,
+    relation: Other,
+) -> Uncertainty {
+    let Some(mut p) = other.uncertainty else {
+        return u;
+    };
+    if relation == Other::Independent {
+        let add = |to: &mut PlaneCovariance, from: &PlaneCovariance| {
+            let m = Matrix2::from_fn(|i, j| to.basis[i].dot(&from.basis[j]));
+            to.covariance += m * from.covariance * m.transpose();
+        };
+        add(&mut p.axis, &u.axis);
+        if let (Some(to), Some(from)) = (p.pivot.as_mut(), u.pivot.as_ref()) {
+            add(to, from);
+        }
+    }
+    let widen = |block: &mut PlaneCovariance, d: f64| {
+        if d.is_finite() && d > 2.0 {
+            block.covariance *= d / 2.0;
+        }
+    };
+    match (joint, &other.joint) {
+        (
+            JointEstimate::Revolute { axis, pivot, .. },
+            JointEstimate::Revolute {
+                axis: a, pivot: q, ..
+            },
+        ) => {
+            widen(&mut u.axis, p.axis_mahalanobis_squared(a, axis));
+            if let (Some(block), Some(d)) = (
+                u.pivot.as_mut(),
+                p.pivot_mahalanobis_squared(q, a, pivot, axis),
+            ) {
+                widen(block, d);
+            }
+        }
+        (JointEstimate::Prismatic { axis, .. }, JointEstimate::Prismatic { axis: a, .. }) => {
+            widen(&mut u.axis, p.axis_mahalanobis_squared(a, axis));
+        }
+        _ => {}
+    }
+    u
+}
+
 /// BIC's approximation of the posterior probability of the model with `bic` against the one
 /// with `other` (equal priors): `1 / (1 + exp((bic − other) / 2))`, finite for every input
 /// (∞ against a finite BIC is 0, both ∞ or NaN is ½).
@@ -188,6 +258,54 @@ mod tests {
         let q = p + basis[1].into_inner() * 0.02 + Vector3::z() * 5.0;
         let d = u.pivot_mahalanobis_squared(&p, &axis, &q, &axis).unwrap();
         assert!((d - 4.0).abs() < 1e-9, "{d}");
+    }
+
+    /// Two vertical hinges 3 cm apart, each with pivot covariance 1 cm² per axis and axis
+    /// covariance 1e-4 rad²: independent, the difference has 2 cm² per axis, so `D = 0.03² /
+    /// 2e-4 = 4.5` and the pivot block is scaled by 2.25; nested (the other's region alone),
+    /// `D = 9`, scaled by 4.5; the axes agree (`D = 0`), so the axis block is unchanged; an
+    /// other estimate of another type changes nothing.
+    #[test]
+    fn disagreement_widens_by_birges_ratio() {
+        let axis = Vector3::z_axis();
+        let basis = tangent_basis(&axis);
+        let block = |v: f64| PlaneCovariance {
+            basis,
+            covariance: Matrix2::identity() * v,
+        };
+        let u = Uncertainty {
+            type_probability: 0.99,
+            axis: block(1e-4),
+            pivot: Some(block(1e-4)),
+        };
+        let joint = JointEstimate::Revolute {
+            axis,
+            pivot: Point3::origin(),
+            angle: 0.5,
+        };
+        let other = Estimate {
+            joint: JointEstimate::Revolute {
+                axis,
+                pivot: Point3::new(0.03, 0.0, 0.2),
+                angle: 0.5,
+            },
+            uncertainty: Some(u),
+            ..Estimate::unknown("")
+        };
+        let scale = |w: Uncertainty| w.pivot.unwrap().covariance[(0, 0)] / 1e-4;
+        let wide = consistent_with(u, &joint, &other, Other::Independent);
+        assert!((scale(wide) - 2.25).abs() < 1e-9, "{}", scale(wide));
+        assert_eq!(wide.axis, u.axis);
+        let nested = consistent_with(u, &joint, &other, Other::Nested);
+        assert!((scale(nested) - 4.5).abs() < 1e-9, "{}", scale(nested));
+        let slide = Estimate {
+            joint: JointEstimate::Prismatic {
+                axis,
+                distance: 0.1,
+            },
+            ..other
+        };
+        assert_eq!(consistent_with(u, &joint, &slide, Other::Independent), u);
     }
 
     /// The BIC probability is ½ at a tie, finite at the extremes.

@@ -7,8 +7,6 @@ use nalgebra::{DMatrix, DVector};
 
 use super::model::State;
 use super::solve::Context;
-use crate::articulation::estimate::{Estimate, JointEstimate};
-use crate::articulation::uncertainty::{PlaneCovariance, Uncertainty};
 
 impl Context<'_> {
     /// The covariance of the offsets at `state`, and the variance factor `ĉ ≥ 1` (the reduced
@@ -75,51 +73,6 @@ impl Context<'_> {
         let cov = loewner_max(&gauss_newton, &sandwich).unwrap_or(gauss_newton);
         cov.iter().all(|v| v.is_finite()).then_some((cov, c_hat))
     }
-}
-
-/// The fused uncertainty `u` of `joint`, widened where the path alone disagrees: the
-/// proprioceptive estimate (the same path without the clouds) differs from the fused one by
-/// the squared Mahalanobis distance `D` in its own axis (and pivot) region; without a bias
-/// in the clouds, `D` is at most of the order of its 2 degrees of freedom (the path-only
-/// estimate is the less precise one, so its covariance bounds that of the difference). A
-/// larger `D` is a disagreement the fit's covariance does not know about (a bias the clouds'
-/// residuals cannot show: which points a segmentation kept, a surface's sampling), so the
-/// block is scaled by `D / 2` (Birge's ratio). Unchanged when the path alone gives another
-/// joint type or no uncertainty.
-pub(super) fn consistent_with(
-    mut u: Uncertainty,
-    joint: &JointEstimate,
-    path_only: &Estimate,
-) -> Uncertainty {
-    let Some(p) = path_only.uncertainty else {
-        return u;
-    };
-    let widen = |block: &mut PlaneCovariance, d: f64| {
-        if d.is_finite() && d > 2.0 {
-            block.covariance *= d / 2.0;
-        }
-    };
-    match (joint, &path_only.joint) {
-        (
-            JointEstimate::Revolute { axis, pivot, .. },
-            JointEstimate::Revolute {
-                axis: a, pivot: q, ..
-            },
-        ) => {
-            widen(&mut u.axis, p.axis_mahalanobis_squared(a, axis));
-            if let (Some(block), Some(d)) = (
-                u.pivot.as_mut(),
-                p.pivot_mahalanobis_squared(q, a, pivot, axis),
-            ) {
-                widen(block, d);
-            }
-        }
-        (JointEstimate::Prismatic { axis, .. }, JointEstimate::Prismatic { axis: a, .. }) => {
-            widen(&mut u.axis, p.axis_mahalanobis_squared(a, axis));
-        }
-        _ => {}
-    }
-    u
 }
 
 /// `cov`, the covariance of the offsets at a fused state, widened by the bias its travel

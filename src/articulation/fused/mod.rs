@@ -15,7 +15,7 @@ pub use settings::FusedSettings;
 
 use nalgebra::{DMatrix, Matrix2, Point3, Vector3};
 
-use self::covariance::{consistent_with, with_travel_bias};
+use self::covariance::with_travel_bias;
 use self::model::{Kind, PathPose, State};
 use self::noise::depth_sigma;
 use self::solve::Context;
@@ -28,7 +28,9 @@ use super::proprioceptive::{
     MIN_ORIENTATION_SIGMA, MIN_POSITION_SIGMA, Proprioceptive, path_noise,
 };
 use super::two_view::{CloudEvidence, estimate_with_evidence};
-use super::uncertainty::{PlaneCovariance, Uncertainty, bic_probability, tangent_basis};
+use super::uncertainty::{
+    Other, PlaneCovariance, Uncertainty, bic_probability, consistent_with, tangent_basis,
+};
 
 /// The fused estimator: one joint fit to the depth clouds and the end-effector poses.
 ///
@@ -200,7 +202,7 @@ fn estimate(s: &FusedSettings, i: &Interaction<'_>) -> Result<Estimate, Articula
     let joint = joint_of(&state);
     let uncertainty = covariance.map(|(cov, _)| {
         let u = uncertainty_of(&state, &cov, type_probability);
-        consistent_with(u, &joint, &proprioceptive)
+        consistent_with(u, &joint, &proprioceptive, Other::Nested)
     });
     let explained = explained_fraction(&ctx, &state, &evidence);
     let details = format!(

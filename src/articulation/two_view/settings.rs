@@ -42,6 +42,10 @@ pub struct TwoViewSettings {
     pub path_tolerance: f64,
     /// The contact-path check needs at least this many end-effector poses.
     pub min_path_poses: usize,
+    /// With end-effector poses, widen the uncertainty where the gripper's path alone (the
+    /// default [`Proprioceptive`](crate::articulation::Proprioceptive) estimate) disagrees
+    /// beyond both regions (Birge's ratio; see [`TwoView`](super::TwoView)). Default true.
+    pub path_consistency: bool,
 }
 
 impl Default for TwoViewSettings {
@@ -62,6 +66,7 @@ impl Default for TwoViewSettings {
             contact_weight: 0.05,
             path_tolerance: 0.02,
             min_path_poses: 5,
+            path_consistency: true,
         }
     }
 }
