@@ -75,37 +75,6 @@ impl Context<'_> {
     }
 }
 
-/// `cov`, the covariance of the offsets at a fused state, widened by the bias its travel
-/// shows against the path alone: `path` is the travel of the same model fitted to the poses
-/// without the clouds and its variance, `travel` the fused one, `index` the travel's offset.
-///
-/// Without a bias the difference `d` of the two travels has a variance of at most the path's
-/// (the fused travel is the more precise one), so the excess `b² = d² − var` (when positive)
-/// estimates the square of a bias the clouds give the travel and no residual shows (which
-/// points a segmentation kept; on a small door opened 10° the clouds' travel runs ≈ 0.7° low
-/// with 1–2° on some seeds). A travel off by `b` carries every other parameter along the
-/// fit's valley by `g b`, `g = Σ[:, t] / Σ[t, t]` (the linear regression of the offsets on
-/// the travel), so `b² g gᵀ` is added: on a small motion the pivot slides along the door
-/// with the swept angle, and its region now covers that slide.
-pub(super) fn with_travel_bias(
-    mut cov: DMatrix<f64>,
-    index: usize,
-    travel: f64,
-    path: Option<(f64, f64)>,
-) -> DMatrix<f64> {
-    let Some((path_travel, var)) = path else {
-        return cov;
-    };
-    let b2 = (travel - path_travel).powi(2) - var;
-    let tt = cov[(index, index)];
-    if !(b2 > 0.0 && b2.is_finite() && tt > 0.0 && tt.is_finite()) {
-        return cov;
-    }
-    let g = cov.column(index) / tt;
-    cov += &g * g.transpose() * b2;
-    cov
-}
-
 /// The smallest covariance at least as large as `a` and as `b` in every direction along
 /// `a`'s generalised eigenvectors: with `a = L Lᵀ` and `L⁻¹ b L⁻ᵀ = V Λ Vᵀ`,
 /// `L V max(Λ, 1) Vᵀ Lᵀ`. `None` when `a` is not positive definite.
@@ -122,19 +91,6 @@ fn loewner_max(a: &DMatrix<f64>, b: &DMatrix<f64>) -> Option<DMatrix<f64>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Travel (index 1) correlated with a pivot (index 0) by ρ = 0.8, σ 1 each: a path travel
-    /// 3 away with variance 4 is an excess `b² = 9 − 4 = 5`; the regression `g = (0.8, 1)`
-    /// adds `5 g gᵀ`. A difference within the path's variance, or no path, changes nothing.
-    #[test]
-    fn travel_bias_moves_along_the_regression() {
-        let cov = DMatrix::from_row_slice(2, 2, &[1.0, 0.8, 0.8, 1.0]);
-        let wide = with_travel_bias(cov.clone(), 1, 0.0, Some((3.0, 4.0)));
-        let expected = DMatrix::from_row_slice(2, 2, &[1.0 + 5.0 * 0.64, 0.8 + 4.0, 4.8, 6.0]);
-        assert!((wide - expected).norm() < 1e-12);
-        assert_eq!(with_travel_bias(cov.clone(), 1, 0.0, Some((1.5, 4.0))), cov);
-        assert_eq!(with_travel_bias(cov.clone(), 1, 0.0, None), cov);
-    }
 
     /// The Loewner maximum of diag(1, 4) and diag(2, 1) is diag(2, 4); of a matrix with
     /// itself, the matrix.

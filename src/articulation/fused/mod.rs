@@ -15,7 +15,6 @@ pub use settings::FusedSettings;
 
 use nalgebra::{DMatrix, Matrix2, Point3, Vector3};
 
-use self::covariance::with_travel_bias;
 use self::model::{Kind, PathPose, State};
 use self::noise::depth_sigma;
 use self::solve::Context;
@@ -80,10 +79,7 @@ use super::uncertainty::{
 ///    discovery treats as ambiguous (below its `confident_type_probability`).
 /// 6. **Uncertainty.** The covariance of the fit (`covariance.rs`): the larger, in every
 ///    direction, of the Gauss–Newton one scaled by `ĉ` and the cluster-robust sandwich over
-///    τ-voxels and poses; widened along the fit's valley by the bias its travel shows against
-///    the same model fitted to the path alone (`covariance.rs`: on a small motion the clouds'
-///    swept angle runs low and the pivot slides with it); its axis-tilt and pivot blocks are
-///    then widened by Birge's ratio
+///    τ-voxels and poses; its axis-tilt and pivot blocks are then widened by Birge's ratio
 ///    where the path alone (the proprioceptive estimate) disagrees with the fused estimate
 ///    beyond its own regions (a bias of the clouds no residual shows).
 ///
@@ -183,14 +179,7 @@ fn estimate(s: &FusedSettings, i: &Interaction<'_>) -> Result<Estimate, Articula
         return Ok(alone(two_view, "the joint fit found no start"));
     };
     let state = fits[best].0;
-    let path = path_only_travel(&ctx, &state);
-    let index = state.travel_index();
     let covariance = ctx.covariance(&state);
-    let travel_sd = covariance
-        .as_ref()
-        .map_or(f64::NAN, |(c, _)| c[(index, index)].sqrt());
-    let covariance =
-        covariance.map(|(cov, c)| (with_travel_bias(cov, index, state.travel, path), c));
     let c_hat = covariance.as_ref().map_or(1.0, |(_, c)| *c);
     let bics: Vec<f64> = fits
         .iter()
@@ -208,8 +197,7 @@ fn estimate(s: &FusedSettings, i: &Interaction<'_>) -> Result<Estimate, Articula
     let details = format!(
         "fused: {}; depth sigma {sigma_d:.4} m (gate {pair_gate:.4} m, τ {:.4} m), \
          pose sigma {sigma_p:.4} m / {sigma_o:.4} rad, n_eff {:.0}, {} poses; \
-         BIC {} (revolute first, variance factor {c_hat:.2}); path alone: travel {}; \
-         explained {explained:.3}; \
+         BIC {} (revolute first, variance factor {c_hat:.2}); explained {explained:.3}; \
          two-view: {:?}; proprioceptive: {:?}{}",
         terms_of(&ctx, &fits),
         evidence.tau,
@@ -219,11 +207,6 @@ fn estimate(s: &FusedSettings, i: &Interaction<'_>) -> Result<Estimate, Articula
             .map(|b| format!("{b:.1}"))
             .collect::<Vec<_>>()
             .join(" / "),
-        path.map_or("-".to_string(), |(t, v)| format!(
-            "{t:.4} ± {:.4} (fused {:.4} ± {travel_sd:.4})",
-            v.sqrt(),
-            state.travel
-        )),
         two_view.joint.kind(),
         proprioceptive.joint.kind(),
         wide,
@@ -253,20 +236,6 @@ fn pose_noise(s: &FusedSettings, i: &Interaction<'_>) -> (f64, f64) {
             )
         },
     )
-}
-
-/// The travel of `state`'s model fitted to the poses alone (from `state`, the clouds left
-/// out of the same likelihood), with its variance; `None` when that fit has no covariance.
-fn path_only_travel(ctx: &Context<'_>, state: &State) -> Option<(f64, f64)> {
-    let path = Context {
-        sample: &[],
-        candidates: &[],
-        ..*ctx
-    };
-    let fitted = path.fit(*state);
-    let (cov, _) = path.covariance(&fitted)?;
-    let i = fitted.travel_index();
-    Some((fitted.travel, cov[(i, i)]))
 }
 
 /// Drops a revolute fit whose path radius exceeds `max_radius` when another fit remains;

@@ -58,14 +58,6 @@ impl State {
         }
     }
 
-    /// The index of the travel among the parameter offsets.
-    pub(super) fn travel_index(&self) -> usize {
-        match self.kind {
-            Kind::Revolute => 4,
-            Kind::Prismatic => 2,
-        }
-    }
-
     /// The state at parameter offsets `d`; a revolute pivot is moved back level with
     /// `contact` (the path height follows it).
     pub(super) fn perturbed(&self, d: &[f64], contact: &Point3<f64>) -> State {

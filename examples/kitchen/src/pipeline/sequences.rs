@@ -98,7 +98,8 @@ pub const EXTRA_SEQUENCES: [Sequence; 2] = [
         name: "corner-doors",
         about: "the corner doors sweep the same square: with the side door opened first the \
                 back door meets it before 1.2 rad, so the back door goes first (the Gen3 \
-                needs --whole-body --bar-turn 1.2 for either)",
+                needs whole-body manipulation and turned grasps for either, the kitchen's \
+                defaults)",
         goal: &[
             ("corner_door_back_hinge", 1.2),
             ("corner_door_side_hinge", 0.6),
