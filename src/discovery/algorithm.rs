@@ -64,7 +64,10 @@ pub struct Discovery {
 ///      move: a slipped grasp, a wrong direction, no joint). Hardware failure signals
 ///      (grasp, pull) are failures too, except when the contact is already `sufficient_pull`
 ///      from the first grasp point with the part displaced: then the attempt ends as a
-///      success.
+///      success. With `resume_short_pulls` (off by default), while it is short of
+///      `target_pull` and attempts remain, the robot still Repositions and pulls on from the
+///      last contact, as Algorithm 1 retries every failure; the success stands whatever the
+///      later attempts do.
 ///    - **GetComplianceAction**: the surface normal from a robust plane fit (PCA, one
 ///      inlier refit) to the `interaction_camera` observation within `normal_radius` of the
 ///      contact, oriented towards the sensor; the pull direction is

@@ -352,6 +352,48 @@ fn a_prismatic_self_collision_repositions_the_base_back() {
     check_joint(&d, JointKind::Prismatic, DRAWER_AXIS, None, 3.0, 0.0);
 }
 
+/// The same drawer and reach at the default `sufficient_pull` (12 cm): the first attempt's
+/// 15 cm is a success after `SelfCollision`, short of the 30 cm target, so the robot
+/// Repositions 30 cm back and pulls on to the target with `resume_short_pulls`; without it
+/// (the default) the short pull is accepted at once.
+#[test]
+fn a_short_success_is_pulled_on_to_the_target() {
+    for resume in [true, false] {
+        let settings = DiscoverySettings {
+            resume_short_pulls: resume,
+            max_extra_pulls: 0,
+            ..DiscoverySettings::default()
+        };
+        let (_, d) = run_with(
+            drawer_cabinet(),
+            &TwoView::default(),
+            22,
+            |w| w.settings.min_reach = 0.45,
+            &settings,
+        );
+        let log = &d.log[0];
+        assert!(log.succeeded(), "{log:#?}");
+        assert_eq!(
+            log.attempts[0].end,
+            AttemptEnd::SuccessAfter {
+                failure: HardwareFailure::SelfCollision
+            },
+            "{log:#?}"
+        );
+        if resume {
+            assert_eq!(log.attempts.len(), 2, "{log:#?}");
+            let shift = log.attempts[1].world_from_base.translation.vector
+                - log.attempts[0].world_from_base.translation.vector;
+            assert!((shift - Vector2::new(0.0, -0.3)).norm() < 0.02, "{shift:?}");
+            assert!(log.pull_distance >= settings.target_pull - 1e-9);
+        } else {
+            assert_eq!(log.attempts.len(), 1, "{log:#?}");
+            assert!(log.pull_distance <= 0.15 + 1e-9, "{}", log.pull_distance);
+        }
+        check_joint(&d, JointKind::Prismatic, DRAWER_AXIS, None, 3.0, 0.0);
+    }
+}
+
 /// Nesting: the door is explored first and left open; the tray's mapped handle (on the door
 /// when closed) is carried along with the door's estimated motion, re-detected where it now is,
 /// explored, and registered as a child of the door with its slide axis in the door frame.

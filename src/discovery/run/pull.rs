@@ -13,8 +13,9 @@ use crate::discovery::settings::DiscoverySettings;
 use super::{Near, Pulled, Run, Stop, fail};
 
 /// What the attempts left: the first grasp's pre-interaction observation and contact, the
-/// last contact, the end-effector poses, where each grasp's poses begin, whether the last
-/// attempt succeeded, and its base pose and last tracked normal.
+/// last contact, the end-effector poses, where each grasp's poses begin, whether an attempt
+/// succeeded, and the base pose and last tracked normal of the last attempt that grasped after
+/// it (or of the last attempt).
 pub(super) struct Attempts {
     first: Option<(PointCloud, Point3<f64>)>,
     contact_post: Option<Point3<f64>>,
@@ -27,8 +28,9 @@ pub(super) struct Attempts {
 
 impl Run<'_> {
     /// The exploratory interaction at handle `p` (outward normal `normal`): up to
-    /// `max_attempts` attempts from `b_pre` until one succeeds, each logged in `entry`, with
-    /// Reposition between them. A retry grasps at the last contact (the part's path stays
+    /// `max_attempts` attempts from `b_pre` until one succeeds (one that succeeded short of
+    /// the target on a failure signal is pulled on: `resume_short_pulls`), each logged in
+    /// `entry`, with Reposition between them. A retry grasps at the last contact (the part's path stays
     /// that of one point, as the estimators assume), or, after a grasp that missed the handle,
     /// where it is re-detected ([`Run::regrasp_target`]).
     pub(super) fn attempts(
@@ -100,8 +102,12 @@ impl Run<'_> {
                 out.contact_post = Some(c);
             }
             hot_normal = result.normal;
-            out.normal = result.normal;
-            out.base = b_pre;
+            // After a success, only an attempt that grasped again moves the pose further
+            // pulls return to.
+            if !out.success || result.contact.is_some() {
+                out.normal = result.normal;
+                out.base = b_pre;
+            }
             missed = matches!(
                 result.log.end,
                 AttemptEnd::Grasp {
@@ -109,12 +115,18 @@ impl Run<'_> {
                 }
             );
             let motion = result.log.motion;
-            out.success = result.log.end.is_success();
+            // A pull that stopped short of the target on a failure signal is a success, but
+            // the next attempt (if any) pulls on from its last contact.
+            let short = matches!(result.log.end, AttemptEnd::SuccessAfter { .. })
+                && s.resume_short_pulls
+                && k + 1 < s.max_attempts
+                && opening(&out.first, &hotspot) < s.target_pull;
+            out.success |= result.log.end.is_success();
             entry.attempts.push(result.log);
             if let Err(f) = self.robot.retract() {
                 return fail(Stage::Exploration, format!("retract: {f}"));
             }
-            if out.success {
+            if out.success && !short {
                 break;
             }
             // Reposition.
@@ -258,6 +270,11 @@ pub(super) fn skipped(world_from_base: Isometry2<f64>, end: AttemptEnd) -> Attem
         motion: MotionClass::NoMotion,
         end,
     }
+}
+
+/// The contact's distance from the first grasp point: the opening so far (0 before a grasp).
+fn opening(first: &Option<(PointCloud, Point3<f64>)>, contact: &Point3<f64>) -> f64 {
+    first.as_ref().map_or(0.0, |(_, g)| (contact - g).norm())
 }
 
 /// Reposition: the new pre-interaction pose after a failed attempt (see
