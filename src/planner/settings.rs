@@ -47,6 +47,13 @@ pub struct PlannerSettings {
     /// Spacing of the independent dense re-check of every arm path and the manipulation
     /// trajectory (rad, largest joint change between checked configurations), default 0.01.
     pub arm_check_resolution: f64,
+    /// Time shortcuts of the free arm paths (to and from the stow): OMPL shortens a path in
+    /// joint-space length, but the arm's time on a leg is its slowest joint's `|Δq| / v_max`.
+    /// Each segment of the checked path is divided into this many parts and, from each point
+    /// in turn, the path goes straight to the farthest later point whose straight motion is
+    /// quicker and passes the dense re-check (`arm_check_resolution`, the same check). 0: off.
+    /// Default 4.
+    pub arm_time_shortcuts: usize,
     /// Spacing of the dense re-check of base paths (m, with yaw scaled by the footprint
     /// radius), default 0.02.
     pub base_check_resolution: f64,
@@ -126,6 +133,7 @@ impl Default for PlannerSettings {
             margin: 0.02,
             stow: None,
             arm_check_resolution: 0.01,
+            arm_time_shortcuts: 4,
             base_check_resolution: 0.02,
             blend: Some(BlendSettings::default()),
             manipulation_blend: 0.002,

@@ -3,6 +3,7 @@
 
 use super::StepReason;
 use super::refine::{ArmPaths, Placed, StepRefinement};
+use super::shortcut::time_shortcuts;
 use super::{Check, Failed, StepPath, check_manipulation, path_or_reason};
 use crate::kinematics::robot::{ArmCheck as FastArmCheck, ArmEdgeCheck, EdgeScene, Exempt};
 use crate::motion::paths::{MotionCheck, first_invalid, plan_arm_checked, plan_arm_with_motion};
@@ -37,7 +38,9 @@ impl StepRefinement<'_, '_> {
         })
     }
 
-    /// One free arm phase: OMPL, then the dense re-check.
+    /// One free arm phase: OMPL, the dense re-check, then the time shortcuts
+    /// ([`PlannerSettings::arm_time_shortcuts`](crate::planner::PlannerSettings)), each
+    /// checked by the same dense rule.
     fn arm_phase(
         &self,
         from: &[f64],
@@ -126,7 +129,19 @@ impl StepRefinement<'_, '_> {
                 },
             )));
         }
-        Ok(Ok(path))
+        let vmax: Vec<f64> = ctx
+            .robot
+            .arm_joints()
+            .iter()
+            .map(|j| j.max_velocity)
+            .collect();
+        Ok(Ok(time_shortcuts(
+            path,
+            &vmax,
+            ctx.settings.arm_time_shortcuts,
+            resolution,
+            &|q| arm.valid(q),
+        )))
     }
 
     /// The scene after the step.

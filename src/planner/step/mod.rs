@@ -54,6 +54,7 @@ mod arm;
 mod reason;
 mod refine;
 mod segment;
+mod shortcut;
 mod timing;
 mod whole_body;
 
