@@ -15,7 +15,7 @@ use super::shapes::PlacedShape;
 use crate::articulation::{Estimate, PointCloud};
 use crate::scene::{Handle, JointKind, PartSpec, SceneModel, Shape, State};
 use attach::attach;
-use joint::{joint_line, joint_motion};
+use joint::{joint_line, joint_motion, pivot_out_of};
 use points::part_points;
 pub(super) use points::placed_base;
 
@@ -83,7 +83,17 @@ pub(crate) fn new_part(
 ) -> Result<NewPart, String> {
     let mut notes = Vec::new();
     let c = observed.contact_pre;
-    let line = joint_line(estimate, c, s, &mut notes)?;
+    let mut line = joint_line(estimate, c, s, &mut notes)?;
+    if line.kind == JointKind::Revolute {
+        let base = points::placed_base(model);
+        if let Some((moved, d)) = pivot_out_of(&base, &line.axis, &line.origin, &observed.normal) {
+            notes.push(format!(
+                "the estimated hinge lay inside the base map; moved {d:.3} m out along the \
+                 front's normal, clear of it"
+            ));
+            line.origin = moved;
+        }
+    }
     let (mut spec, world_from_joint) = attach(index, &line, c, model, state, s)?;
     // Part frame = joint frame at value 0 = the closed pose observed before the interaction.
     let part_from_world = world_from_joint.inverse();
