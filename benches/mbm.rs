@@ -10,11 +10,14 @@
 //! and the ratio of the medians.
 //!
 //! `cargo bench --bench mbm` (optionally `-- PER_SET`, the first `PER_SET` problems of each
-//! family, default 100, all; and `-- no-exact` to skip the exact-check mode).
+//! family, default 100, all; `-- no-exact` to skip the exact-check mode; `-- only=K` to run
+//! mode K alone, 0-based in the printed order; `-- budget=S` for another budget than 2 s; the
+//! printed `paths` digest is equal between builds that return the same paths).
 //!
 //! **Set-up (not timed, not in the tests).** The problems ship in the `vamp-planner` sdist on
 //! PyPI (`resources/panda/problems.tar.bz2`, MoveIt scene and request YAML). The first run
-//! fetches the pinned sdist (0.6.4, SHA-256 checked) into `target/mbm/` with
+//! fetches the pinned sdist (0.6.4, SHA-256 checked) into `target/mbm/` (under
+//! `$CARGO_TARGET_DIR` when that is set) with
 //! `benches/mbm/fetch.py` (PyPI's JSON API; no build step), unpacks the problems with `tar` and
 //! converts them with `benches/mbm/convert.py` into `target/mbm/problems.json`; later runs
 //! reuse that file. Python is `$PYTHON`, default the bench venv's (`bash setup.sh --bench`
@@ -84,9 +87,12 @@ fn run(cmd: &mut Command) {
     assert!(status.success(), "{cmd:?} failed: {status}");
 }
 
-/// `target/mbm/problems.json`, fetched and converted on the first run.
+/// `target/mbm/problems.json` (under `$CARGO_TARGET_DIR` when that is set), fetched and
+/// converted on the first run.
 fn problems() -> Vec<Problem> {
-    let dir = Path::new(ROOT).join("target/mbm");
+    let target = std::env::var_os("CARGO_TARGET_DIR")
+        .map_or_else(|| Path::new(ROOT).join("target"), PathBuf::from);
+    let dir = target.join("mbm");
     let json = dir.join("problems.json");
     if !json.exists() {
         std::fs::create_dir_all(&dir).expect("target/mbm is writable");
@@ -211,6 +217,9 @@ struct Stats {
     times: Vec<Duration>,
     solved: usize,
     recheck_failures: usize,
+    /// FNV-1a over the bits of every returned path's values, in problem order: equal digests
+    /// from two builds mean the same paths (the validity answers did not change).
+    digest: u64,
 }
 
 fn quantile(sorted: &[Duration], q: f64) -> Duration {
@@ -229,6 +238,10 @@ fn main() {
     let with_certified = !std::env::args().any(|a| a == "no-certified");
     let with_fast = !std::env::args().any(|a| a == "no-fast");
     let profile = std::env::args().any(|a| a == "profile");
+    // `only=K`: run mode K alone (0-based, the order of `names` below; for instruction counts
+    // under callgrind).
+    let only: Option<usize> =
+        std::env::args().find_map(|a| a.strip_prefix("only=").and_then(|k| k.parse().ok()));
     // `no-spans`: the two `ArmCheck` modes evaluate every state too (a cross-check).
     let no_spans = std::env::args().any(|a| a == "no-spans");
     let mut profiles: Vec<Profile> = Vec::new();
@@ -251,8 +264,13 @@ fn main() {
     let spheres = RobotSpheres::new(&robot, &collision, &sphere_settings).expect("sphere model");
     let (lower, upper) = robot.arm_bounds();
     let (lower, upper) = (lower.as_slice().to_vec(), upper.as_slice().to_vec());
+    // `budget=S`: the budget per problem in seconds (default 2; raise it under callgrind,
+    // where a 2 s budget cuts planning and simplification short).
+    let budget = std::env::args()
+        .find_map(|a| a.strip_prefix("budget=").and_then(|s| s.parse().ok()))
+        .unwrap_or(2.0);
     let settings = PathSettings {
-        budget: Duration::from_secs(2),
+        budget: Duration::from_secs_f64(budget),
         seed: Some(1),
         ..PathSettings::default()
     };
@@ -269,6 +287,7 @@ fn main() {
         times: Vec::new(),
         solved: 0,
         recheck_failures: 0,
+        digest: 0xcbf2_9ce4_8422_2325,
     });
     let mut invalid_endpoints = 0;
     let mut warmed = false;
@@ -404,7 +423,11 @@ fn main() {
             warmed = true;
         }
         for (k, (stat, (check, motion, settings))) in stats.iter_mut().zip(modes).enumerate() {
-            if k == 0 && !with_exact || k == 1 && !with_fast || k == 2 && !with_certified {
+            if k == 0 && !with_exact
+                || k == 1 && !with_fast
+                || k == 2 && !with_certified
+                || only.is_some_and(|o| o != k)
+            {
                 continue;
             }
             let t0 = Instant::now();
@@ -423,6 +446,11 @@ fn main() {
             stat.times.push(elapsed);
             if let PathOutcome::Solved(path) = outcome {
                 stat.solved += 1;
+                for v in path.iter().flatten() {
+                    for byte in v.to_bits().to_le_bytes() {
+                        stat.digest = (stat.digest ^ u64::from(byte)).wrapping_mul(0x100_0000_01b3);
+                    }
+                }
                 if first_invalid(&path, settings.resolution / 4.0, false, &exact).is_some() {
                     stat.recheck_failures += 1;
                 }
@@ -456,12 +484,13 @@ fn main() {
         medians.push(median);
         println!(
             "{name:>26}: solved {}/{attempted} ({:.1} %), median {:.2} ms, p95 {:.2} ms, \
-             exact re-check at 1/4 spacing fails on {}",
+             exact re-check at 1/4 spacing fails on {}, paths {:016x}",
             stat.solved,
             100.0 * stat.solved as f64 / attempted.max(1) as f64,
             median.as_secs_f64() * 1e3,
             quantile(&stat.times, 0.95).as_secs_f64() * 1e3,
-            stat.recheck_failures
+            stat.recheck_failures,
+            stat.digest
         );
     }
     let ratio = |a: usize, b: usize| medians[a].as_secs_f64() / medians[b].as_secs_f64().max(1e-12);

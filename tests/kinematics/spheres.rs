@@ -532,3 +532,70 @@ fn arm_motion_spans_keep_the_exact_answer() {
         assert!(accepted > 0 && rejected > 0, "{name}");
     }
 }
+
+/// [`RobotSpheres::pair_distance_bound`] (the distance tables of pairs one or two joints
+/// apart) never exceeds the exact distance: on 3000 seeded random configurations per robot
+/// (joints within their limits, continuous ones over one turn and beyond it, so that the
+/// tables' wrapping is exercised), for every checked pair, the bound is at most parry's
+/// distance (`pair_distance`, which is `<= 0` for touching pairs, so a touching pair is never
+/// certified apart). Not vacuous: the Panda's `link5`–`link7` pair has a table, and its bound
+/// is positive (certifies the pair apart) on most of the configurations while its spheres
+/// meet on most of them too.
+#[test]
+fn pair_distance_tables_bound_the_exact_distance() {
+    for (name, robot) in robots() {
+        let collision = RobotCollision::new(&robot).unwrap();
+        let spheres = RobotSpheres::new(&robot, &collision, &SphereSettings::default()).unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(23);
+        let (mut tabled, mut certified, mut spheres_meet, mut samples) = (0, 0, 0, 0);
+        let panda_pair = spheres.checked_pairs().iter().position(|&(i, k)| {
+            robot.links()[i].name == "panda_link5" && robot.links()[k].name == "panda_link7"
+        });
+        let mut placed = SphereData::default();
+        for _ in 0..3000 {
+            let mut q = random_arm(&robot, &mut rng);
+            // Continuous joints: also values beyond one turn.
+            for (v, joint) in q.iter_mut().zip(robot.arm_joints()) {
+                if !joint.lower.is_finite() && rng.random_bool(0.3) {
+                    *v += 2.0 * std::f64::consts::PI * f64::from(rng.random_range(-2..=2));
+                }
+            }
+            let poses = robot
+                .link_poses(&RobotConfig {
+                    base: [0.0; 3],
+                    arm: q.clone(),
+                })
+                .unwrap();
+            spheres.place(&poses, &mut placed);
+            samples += 1;
+            for (p, &(i, k)) in spheres.checked_pairs().iter().enumerate() {
+                let bound = spheres.pair_distance_bound(p, q.as_slice());
+                if bound == f64::NEG_INFINITY {
+                    continue;
+                }
+                tabled += 1;
+                let exact = collision.pair_distance(&poses, i, k);
+                assert!(
+                    bound <= exact + 1e-9,
+                    "{name} pair ({i}, {k}) at {q:?}: bound {bound} above the exact {exact}"
+                );
+                if Some(p) == panda_pair {
+                    certified += usize::from(bound > 0.0);
+                    spheres_meet += usize::from(spheres.pair_meets(&placed, i, k));
+                }
+            }
+        }
+        println!(
+            "{name}: {tabled} table bounds checked; link5-link7 certified apart on {certified} \
+             of {samples} (its spheres meet on {spheres_meet})"
+        );
+        if name == "panda" {
+            assert!(panda_pair.is_some(), "the Panda checks link5-link7");
+            assert!(certified > samples / 2, "panda: {certified} of {samples}");
+            assert!(
+                spheres_meet > samples / 2,
+                "panda: {spheres_meet} of {samples}"
+            );
+        }
+    }
+}

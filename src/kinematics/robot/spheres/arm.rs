@@ -92,6 +92,8 @@ struct StateScratch {
     reached: Vec<Vec<bool>>,
     /// Checked pairs whose spheres meet (indices into the checked pairs).
     pairs: Vec<usize>,
+    /// Per link, its enclosing ball (`ArmCheck::balls`) in the world at `poses`.
+    world_balls: Vec<Option<(Point3<f64>, f64)>>,
     /// Along the motion being checked: per checked pair, how fast (m per unit of the motion's
     /// parameter) the distance of its links can change, and the last distance bound found
     /// with the parameter it was found at.
@@ -171,9 +173,11 @@ impl<'a> ArmCheck<'a> {
             levers: spheres
                 .checked_pairs()
                 .iter()
-                .map(|&(i, k)| levers(robot, spheres, i, k))
+                .map(|&(i, k)| levers(robot, spheres.links(), i, k))
                 .collect(),
-            link_levers: (0..links).map(|l| levers(robot, spheres, 0, l)).collect(),
+            link_levers: (0..links)
+                .map(|l| levers(robot, spheres.links(), 0, l))
+                .collect(),
             spans: true,
         })
     }
@@ -272,7 +276,7 @@ impl<'a> ArmCheck<'a> {
         // States within the certified span of a free state need no check (see `span`).
         let mut hi = n - 1;
         if n > 1 && self.spans {
-            hi -= self.span_steps(1.0, n, &data.state).min(n - 1);
+            hi -= self.span_steps(1.0, n, n - 1, &data.state);
         }
         if hi >= 1 {
             data.queue.push_back((1, hi));
@@ -285,8 +289,9 @@ impl<'a> ArmCheck<'a> {
             if !self.state_valid(&data.q, Some(t), &mut data.state) {
                 return false;
             }
-            let k = if self.spans {
-                self.span_steps(t, n, &data.state)
+            // An interval of one state has no neighbour a span could skip.
+            let k = if self.spans && hi > lo {
+                self.span_steps(t, n, (mid - lo).max(hi - mid), &data.state)
             } else {
                 0
             };
@@ -315,7 +320,7 @@ impl<'a> ArmCheck<'a> {
         self.spheres.place(&s.poses, &mut s.spheres);
         self.broad_phase(s);
         let scene_free = (0..s.links.len()).all(|m| self.link_free(m, at, s));
-        let free = scene_free && (0..s.pairs.len()).all(|k| self.pair_free(s.pairs[k], at, s));
+        let free = scene_free && (0..s.pairs.len()).all(|k| self.pair_free(s.pairs[k], q, at, s));
         // `last_valid` also names the configuration the scratch's poses and spheres are of
         // (`span` reads them): cleared when another configuration overwrote them.
         s.last_valid.clear();
@@ -325,21 +330,30 @@ impl<'a> ArmCheck<'a> {
         free
     }
 
-    /// Whether checked pair `p` (spheres meeting) is apart at the poses in `s`. Outside a
-    /// motion: parry's touch test. Along a motion, at parameter `t`: the pair's last bound
+    /// Whether checked pair `p` (spheres meeting) is apart at the poses in `s` (of arm
+    /// configuration `q`). A pair whose distance table ([`RobotSpheres::pair_distance_bound`])
+    /// certifies it apart by more than [`CERTIFIED_GAP`] is apart, and along a motion that
+    /// bound becomes its last one. Otherwise, outside a motion: parry's touch test. Along a
+    /// motion, at parameter `t`: the pair's last bound
     /// `(t0, d0)` (a lower bound on the links' distance at `t0`) certifies it apart when
     /// `d0 − speed·|t − t0| > CERTIFIED_GAP`, since no point of link `k` moves relative to
     /// link `i` faster than `speed` (m per unit of the parameter, [`levers`]); otherwise
     /// parry's distance (exact below [`BOUND_CUTOFF`]) decides and becomes the new bound.
-    fn pair_free(&self, p: usize, at: Option<f64>, s: &mut StateScratch) -> bool {
+    fn pair_free(&self, p: usize, q: &[f64], at: Option<f64>, s: &mut StateScratch) -> bool {
         let (i, k) = self.spheres.checked_pairs()[p];
         let Some(t) = at else {
-            return !self.collision.pair_touches(&s.poses, i, k);
+            return self.spheres.pair_distance_bound(p, q) > CERTIFIED_GAP
+                || !self.collision.pair_touches(&s.poses, i, k);
         };
         if let Some((t0, d0)) = s.bound[p] {
             if d0 - s.speed[p] * (t - t0).abs() > CERTIFIED_GAP {
                 return true;
             }
+        }
+        let table = self.spheres.pair_distance_bound(p, q);
+        if table > CERTIFIED_GAP {
+            s.bound[p] = Some((t, table));
+            return true;
         }
         let d = self
             .collision
@@ -403,11 +417,15 @@ impl<'a> ArmCheck<'a> {
     fn broad_phase(&self, s: &mut StateScratch) {
         s.links.clear();
         s.pairs.clear();
-        let ball = |l: usize| {
-            let (c, r) = self.balls.get(l).copied().flatten()?;
-            Some((s.poses[l] * c, r))
-        };
-        for l in 0..s.poses.len().min(self.balls.len()) {
+        s.world_balls.clear();
+        s.world_balls.extend(
+            self.balls
+                .iter()
+                .zip(&s.poses)
+                .map(|(ball, pose)| ball.map(|(c, r)| (pose * c, r))),
+        );
+        let ball = |l: usize| s.world_balls.get(l).copied().flatten();
+        for l in 0..s.world_balls.len() {
             let Some((c, r)) = ball(l) else { continue };
             let center = [c.x as f32, c.y as f32, c.z as f32];
             if !self.obstacles.ball_hits(center, r as f32 + SPHERE_SLACK) {
@@ -442,13 +460,21 @@ impl<'a> ArmCheck<'a> {
 /// link `i`; joint `j` moves links `j + 1 ..`) with lever arm `λ_j`, so that along a straight
 /// motion with joint displacements `Δq`, no point of link `k` moves relative to link `i` by
 /// more than `Σ_j |Δq_j|·λ_j` per unit of the motion's parameter. Revolute `j`: `λ_j` bounds
-/// the distance from the joint's axis to any point of link `k`: the offsets from link
-/// `j + 1`'s origin (on the axis) down the chain to link `k`'s origin (a prismatic joint in
-/// between adding its largest travel), plus the largest `|c| + r` of link `k`'s spheres
-/// (which contain its shapes). Prismatic `j`: `λ_j = 1`. The relative velocity is
-/// `Σ_j q̇_j·(ω_j × (p − o_j))` (revolute) `+ Σ_j q̇_j·v_j` (prismatic), whose norm is at most
-/// that sum.
-fn levers(robot: &RobotModel, spheres: &RobotSpheres, i: usize, k: usize) -> Vec<(usize, f64)> {
+/// the distance from the joint's axis to any point of link `k`: for the last joint
+/// (`j = k − 1`, link `k`'s origin on its axis, the axis fixed in link `k`'s frame) the
+/// largest distance `|c⊥| + r` of link `k`'s spheres from the axis (`c⊥`: the centre's
+/// component normal to it); for an earlier one the offsets from link `j + 1`'s origin (on the
+/// axis) down the chain to link `k`'s origin (a prismatic joint in between adding its largest
+/// travel), plus the largest `|c| + r` of link `k`'s spheres. The spheres contain the link's
+/// shapes. Prismatic `j`: `λ_j = 1`. The relative velocity is `Σ_j q̇_j·(ω_j × (p − o_j))`
+/// (revolute) `+ Σ_j q̇_j·v_j` (prismatic), whose norm is at most that sum.
+/// `links`: the sphere covers, per link (as [`RobotSpheres::links`]).
+pub(super) fn levers(
+    robot: &RobotModel,
+    links: &[Vec<super::Sphere>],
+    i: usize,
+    k: usize,
+) -> Vec<(usize, f64)> {
     let joints = robot.arm_joints();
     let step = |j: &ArmJoint| {
         let travel = match j.kind {
@@ -457,7 +483,7 @@ fn levers(robot: &RobotModel, spheres: &RobotSpheres, i: usize, k: usize) -> Vec
         };
         j.parent_from_joint.translation.vector.norm() + travel
     };
-    let reach = spheres.links().get(k).map_or(0.0, |l| {
+    let reach = links.get(k).map_or(0.0, |l| {
         l.iter()
             .map(|s| s.center.coords.norm() + s.radius)
             .fold(0.0, f64::max)
@@ -466,6 +492,19 @@ fn levers(robot: &RobotModel, spheres: &RobotSpheres, i: usize, k: usize) -> Vec
         .map(|j| {
             let lever = match joints[j].kind {
                 ArmJointKind::Prismatic => 1.0,
+                _ if j + 1 == k => {
+                    // Link k's frame is the joint's frame turned about the axis: the axis has
+                    // the same components in it and passes through its origin.
+                    let axis = joints[j].axis;
+                    links.get(k).map_or(0.0, |l| {
+                        l.iter()
+                            .map(|s| {
+                                let c = s.center.coords;
+                                (c - axis.into_inner() * c.dot(&axis)).norm() + s.radius
+                            })
+                            .fold(0.0, f64::max)
+                    })
+                }
                 _ => {
                     joints
                         .get(j + 1..k)

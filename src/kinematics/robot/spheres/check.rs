@@ -4,7 +4,7 @@
 use nalgebra::Isometry3;
 use wide::f32x8;
 
-use super::RobotSpheres;
+use super::{RobotSpheres, Sphere};
 use crate::kinematics::robot::RobotCollision;
 
 /// Slack (m) added to every sum of radii compared in `f32`: it covers the rounding of world
@@ -54,35 +54,72 @@ impl SphereData {
     }
 }
 
+/// Where [`RobotSpheres::place`] puts each link's spheres, and what does not depend on the
+/// poses: per link its first index (padded to [`LANES`]; one more entry, the total), and per
+/// index the radius and kind (padding lanes: radius 0, kind 0).
+#[derive(Debug, Clone, Default)]
+pub(super) struct Layout {
+    starts: Vec<usize>,
+    r: Vec<f32>,
+    kind: Vec<u8>,
+}
+
+impl Layout {
+    /// The layout of `links` (spheres per link), `contact` (per sphere, whether it covers a
+    /// contact shape) and `base_links`.
+    pub(super) fn new(links: &[Vec<Sphere>], contact: &[Vec<bool>], base_links: &[usize]) -> Self {
+        let mut layout = Layout {
+            starts: vec![0],
+            ..Layout::default()
+        };
+        for (l, (spheres, contact)) in links.iter().zip(contact).enumerate() {
+            let base = u8::from(base_links.contains(&l));
+            for (s, &contact) in spheres.iter().zip(contact) {
+                layout.r.push(s.radius as f32);
+                layout.kind.push(base | (u8::from(contact) << 1));
+            }
+            while layout.r.len() % LANES != 0 {
+                layout.r.push(0.0);
+                layout.kind.push(0);
+            }
+            layout.starts.push(layout.r.len());
+        }
+        layout
+    }
+}
+
 impl RobotSpheres {
     /// Places every link's spheres at `link_poses` (world from link, as
     /// [`RobotModel::link_poses`](super::super::RobotModel::link_poses) returns) into `data`.
     /// Links without a pose (a shorter slice) get no spheres.
     pub fn place(&self, link_poses: &[Isometry3<f64>], data: &mut SphereData) {
-        for v in [&mut data.x, &mut data.y, &mut data.z, &mut data.r] {
-            v.clear();
-        }
+        let n = self.links.len().min(link_poses.len());
+        let layout = &self.layout;
+        let total = layout.starts[n];
+        // Radii, kinds and padding lanes do not depend on the poses: copied from the layout.
+        data.r.clear();
+        data.r.extend_from_slice(&layout.r[..total]);
         data.kind.clear();
+        data.kind.extend_from_slice(&layout.kind[..total]);
+        for v in [&mut data.x, &mut data.y, &mut data.z] {
+            v.clear();
+            v.resize(total, FAR);
+        }
         data.links.clear();
         for (l, (spheres, pose)) in self.links.iter().zip(link_poses).enumerate() {
-            let start = data.x.len();
-            let base = u8::from(self.base_links.contains(&l));
+            let start = layout.starts[l];
             // One rotation matrix per link: cheaper per sphere than the quaternion product.
             let (rotation, translation) = (pose.rotation.to_rotation_matrix(), pose.translation);
-            for (s, &contact) in spheres.iter().zip(&self.contact[l]) {
+            let end = start + spheres.len();
+            let lanes = data.x[start..end]
+                .iter_mut()
+                .zip(&mut data.y[start..end])
+                .zip(&mut data.z[start..end]);
+            for (s, ((x, y), z)) in spheres.iter().zip(lanes) {
                 let c = translation * (rotation * s.center);
-                data.x.push(c.x as f32);
-                data.y.push(c.y as f32);
-                data.z.push(c.z as f32);
-                data.r.push(s.radius as f32);
-                data.kind.push(base | (u8::from(contact) << 1));
-            }
-            while (data.x.len() - start) % LANES != 0 {
-                for v in [&mut data.x, &mut data.y, &mut data.z] {
-                    v.push(FAR);
-                }
-                data.r.push(0.0);
-                data.kind.push(0);
+                *x = c.x as f32;
+                *y = c.y as f32;
+                *z = c.z as f32;
             }
             data.links.push((start, spheres.len()));
         }

@@ -13,6 +13,13 @@
 //! shapes in proportion to their bounding-sphere volumes, at least one per shape: a link with
 //! more shapes than the budget gets one sphere per shape.
 //!
+//! **Distance tables.** A checked self-collision pair whose relative pose depends on one or
+//! two joints (links two joints apart, such as the Panda's `link5` and `link7` with the hand,
+//! a few centimetres apart while their spheres overlap) also gets a table of parry's distances
+//! over those joints, built once with the model: [`RobotSpheres::pair_distance_bound`] turns
+//! it into a certified lower bound on the exact distance at any configuration, so that
+//! [`ArmCheck`] decides such a pair without parry wherever the bound is positive.
+//!
 //! The model is immutable and `Send + Sync`; placing it at a configuration writes into a
 //! caller-owned [`SphereData`] ([`RobotSpheres::place`]).
 //!
@@ -44,6 +51,7 @@ mod clip;
 mod cover;
 mod edge;
 mod obstacles;
+mod table;
 
 use nalgebra::Point3;
 
@@ -122,12 +130,14 @@ impl SphereSettings {
 pub struct RobotSpheres {
     /// Per link, its spheres (link frame, padded).
     links: Vec<Vec<Sphere>>,
-    /// Per link, per sphere: whether it covers a contact shape (fingers, pads).
-    contact: Vec<Vec<bool>>,
     /// Link pairs `(i, j)`, `i < j`, checked for self-collision.
     checked: Vec<(usize, usize)>,
-    /// Links rigidly attached to the base (they may stand on the floor).
-    base_links: Vec<usize>,
+    /// Per checked pair, its distance table when its relative pose depends on one or two
+    /// joints (the `table` module).
+    tables: Vec<Option<table::PairTable>>,
+    /// Where [`RobotSpheres::place`] puts the spheres, with their kinds (base link, contact
+    /// shape: fingers, pads).
+    layout: check::Layout,
 }
 
 impl RobotSpheres {
@@ -179,12 +189,18 @@ impl RobotSpheres {
             .filter(|&(i, j)| {
                 !links[i].is_empty() && !links[j].is_empty() && !allowed.contains(&(i, j))
             })
+            .collect::<Vec<_>>();
+        let tables = checked
+            .iter()
+            .map(|&(i, k)| table::PairTable::build(robot, collision, &links, i, k))
             .collect();
+        let base_links = collision.base_links().to_vec();
+        let layout = check::Layout::new(&links, &contact, &base_links);
         Ok(RobotSpheres {
             links,
-            contact,
             checked,
-            base_links: collision.base_links().to_vec(),
+            tables,
+            layout,
         })
     }
 
@@ -201,6 +217,20 @@ impl RobotSpheres {
     /// The link pairs `(i, j)`, `i < j`, checked for self-collision.
     pub fn checked_pairs(&self) -> &[(usize, usize)] {
         &self.checked
+    }
+
+    /// A lower bound (m) on the exact distance ([`RobotCollision::pair_distance`]) of checked
+    /// pair `p` (index into [`RobotSpheres::checked_pairs`]) at arm configuration `q`, from
+    /// the pair's distance table, without parry; `−∞` for a pair without one, outside the
+    /// table or for `p` out of range. A pair gets a table when its relative pose depends on
+    /// one or two joints of finite range (or continuous): parry's distances on a grid over
+    /// those joints, each less the most the pair can close in from the grid node (the lever
+    /// bound), see the `table` module's source (`src/kinematics/robot/spheres/table.rs`).
+    pub fn pair_distance_bound(&self, p: usize, q: &[f64]) -> f64 {
+        match self.tables.get(p) {
+            Some(Some(t)) => t.lower_bound(q),
+            _ => f64::NEG_INFINITY,
+        }
     }
 }
 

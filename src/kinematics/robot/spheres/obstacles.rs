@@ -253,6 +253,9 @@ impl SphereObstacles {
         };
         let zero = f32x8::splat(0.0);
         let mut best = f32::INFINITY;
+        let mut least = f32x8::splat(f32::INFINITY);
+        // Nothing left out: the least over whole lanes, no per-lane look-up.
+        let all = !skip.contains(&true);
         for s in start..start + n {
             let kind = usize::from(spheres.kind[s] & 3);
             let p = [
@@ -274,8 +277,12 @@ impl SphereObstacles {
                     let outside = (along.abs() - block.half[k]).max(zero);
                     dist2 += outside * outside;
                 }
-                let gap = (dist2.sqrt() - block.reach - r).to_array();
-                for (lane, g) in gap.into_iter().enumerate() {
+                let gap = dist2.sqrt() - block.reach - r;
+                if all {
+                    least = least.min(gap);
+                    continue;
+                }
+                for (lane, g) in gap.to_array().into_iter().enumerate() {
                     let index = self.index[kind][b * LANES + lane] as usize;
                     if g < best && !skip.get(index).copied().unwrap_or(false) {
                         best = g;
@@ -283,7 +290,10 @@ impl SphereObstacles {
                 }
             }
         }
-        best
+        least
+            .to_array()
+            .into_iter()
+            .fold(best, |best, g| if g < best { g } else { best })
     }
 }
 

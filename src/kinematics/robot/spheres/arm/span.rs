@@ -29,11 +29,14 @@ use super::{ArmCheck, CERTIFIED_GAP, StateScratch};
 impl ArmCheck<'_> {
     /// The number `k` of states on either side of the free state `t = j / n` (the scratch
     /// holds its poses, spheres and broad phase, and the motion's speeds and bounds) that
-    /// are certified free (see the module's bound): states `j ± 1 ..= j ± k`.
-    pub(super) fn span_steps(&self, t: f64, n: usize, s: &StateScratch) -> usize {
+    /// are certified free (see the module's bound): states `j ± 1 ..= j ± k`, at most `cap`
+    /// (the states still to check lie within `cap` steps: a longer span skips nothing more,
+    /// and bounds that already keep `cap` steps need not be made precise).
+    pub(super) fn span_steps(&self, t: f64, n: usize, cap: usize, s: &StateScratch) -> usize {
         // Spans under one step certify nothing: stop as soon as the span drops below it.
         let step = 1.0 / n as f64;
-        let mut span = f64::INFINITY;
+        // `cap + 1` steps: the rounding below then gives at most `cap`.
+        let mut span = (cap as f64 + 1.0) * step;
         // The far links first: they move fastest and come nearest to the scene.
         let links = s.poses.len().min(self.balls.len()).min(s.link_speed.len());
         for l in (0..links).rev() {
@@ -76,16 +79,16 @@ impl ArmCheck<'_> {
         // Strictly inside the span; the quotient rounded down by a relative hair.
         let k = (span / step * (1.0 - 1e-9)).floor();
         if k.is_finite() {
-            k as usize
+            (k as usize).min(cap)
         } else {
-            usize::MAX
+            cap
         }
     }
 
-    /// Link `l`'s enclosing ball in the world at the scratch's poses.
+    /// Link `l`'s enclosing ball in the world at the scratch's poses (placed by the broad
+    /// phase).
     fn ball(&self, l: usize, s: &StateScratch) -> Option<(nalgebra::Point3<f64>, f64)> {
-        let (c, r) = self.balls.get(l).copied().flatten()?;
-        Some((s.poses.get(l)? * c, r))
+        s.world_balls.get(l).copied().flatten()
     }
 
     /// A lower bound (m) on the distance from link `l`'s exact shapes to the scene less the
