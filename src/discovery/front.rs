@@ -316,6 +316,14 @@ fn drawer_body(
 mod tests {
     use super::*;
 
+    /// A 0.4 × 0.6 m front in the plane y = 0, x in [0, 0.4], z in [0, 0.6], sampled every
+    /// centimetre (41 × 61 points).
+    fn front_grid() -> Vec<Point3<f64>> {
+        (0..=40)
+            .flat_map(|i| (0..=60).map(move |k| Point3::new(i as f64 * 0.01, 0.0, k as f64 * 0.01)))
+            .collect()
+    }
+
     /// A 0.4 × 0.6 m front in the plane y = 0 (outward normal −y) sampled every centimetre, a
     /// 2 × 16 cm handle bar 3 cm in front of it, and two stray points 1.2 cm out at the far
     /// edge (depth noise). Hand-derived: the surface (median depth) is y = 0; the handle's 2 × 17
@@ -323,12 +331,7 @@ mod tests {
     /// out less than 1.5 × 1 cm) and are dropped; no front point is moved (all lie on the surface).
     #[test]
     fn a_handle_is_split_from_the_front() {
-        let mut points = Vec::new();
-        for i in 0..=40 {
-            for k in 0..=60 {
-                points.push(Point3::new(i as f64 * 0.01, 0.0, k as f64 * 0.01));
-            }
-        }
+        let mut points = front_grid();
         let front_len = points.len();
         for i in 0..2 {
             for k in 0..=16 {
@@ -372,12 +375,7 @@ mod tests {
     /// the second's (x = 0.455) is not and is dropped as outside.
     #[test]
     fn a_protrusion_beyond_the_front_is_not_the_part_s() {
-        let mut points = Vec::new();
-        for i in 0..=40 {
-            for k in 0..=60 {
-                points.push(Point3::new(i as f64 * 0.01, 0.0, k as f64 * 0.01));
-            }
-        }
+        let mut points = front_grid();
         for x0 in [0.2, 0.45] {
             for i in 0..2 {
                 for k in 0..=16 {

@@ -308,6 +308,19 @@ fn an_injected_grasp_failure_is_repositioned_and_retried() {
     assert_eq!(d.model.joints()[0].kind, JointKind::Prismatic);
 }
 
+/// The drawer discovered (two-view, seed 22) by an arm that cannot bring the gripper closer
+/// than 45 cm to the base centre.
+fn reach_limited_drawer(settings: &DiscoverySettings) -> Discovery {
+    run_with(
+        drawer_cabinet(),
+        &TwoView::default(),
+        22,
+        |w| w.settings.min_reach = 0.45,
+        settings,
+    )
+    .1
+}
+
 /// The arm cannot bring the gripper closer than 45 cm to the base centre: pulling the drawer
 /// towards the robot standing 60 cm away stops after 15 cm with `SelfCollision`. With
 /// `sufficient_pull` at 20 cm that is a failure; the motion seen is prismatic, so Reposition
@@ -320,13 +333,7 @@ fn a_prismatic_self_collision_repositions_the_base_back() {
         max_extra_pulls: 0,
         ..DiscoverySettings::default()
     };
-    let (_, d) = run_with(
-        drawer_cabinet(),
-        &TwoView::default(),
-        22,
-        |w| w.settings.min_reach = 0.45,
-        &settings,
-    );
+    let d = reach_limited_drawer(&settings);
     let log = &d.log[0];
     assert!(log.succeeded(), "{log:#?}");
     assert_eq!(log.attempts.len(), 2, "{log:#?}");
@@ -364,13 +371,7 @@ fn a_short_success_is_pulled_on_to_the_target() {
             max_extra_pulls: 0,
             ..DiscoverySettings::default()
         };
-        let (_, d) = run_with(
-            drawer_cabinet(),
-            &TwoView::default(),
-            22,
-            |w| w.settings.min_reach = 0.45,
-            &settings,
-        );
+        let d = reach_limited_drawer(&settings);
         let log = &d.log[0];
         assert!(log.succeeded(), "{log:#?}");
         assert_eq!(
