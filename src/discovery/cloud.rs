@@ -277,7 +277,7 @@ pub(crate) fn oriented_box_along(
 }
 
 /// The `trim` and `1 - trim` quantiles of `values` (non-empty).
-fn trimmed_range(values: impl Iterator<Item = f64>, trim: f64) -> (f64, f64) {
+pub(crate) fn trimmed_range(values: impl Iterator<Item = f64>, trim: f64) -> (f64, f64) {
     let mut v: Vec<f64> = values.collect();
     v.sort_by(f64::total_cmp);
     let last = v.len().saturating_sub(1);

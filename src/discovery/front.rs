@@ -4,11 +4,11 @@
 
 use nalgebra::{Point3, Unit, Vector3};
 
-use super::cloud::{OrientedBox, components, oriented_box_along};
-use super::part::{CONNECTIVITY, JointLine, placed_base};
+use super::cloud::{OrientedBox, components, oriented_box_along, trimmed_range};
+use super::part::{CONNECTIVITY, JointLine};
 use super::settings::DiscoverySettings;
 use super::shapes::PlacedShape;
-use crate::scene::{JointKind, SceneModel, Shape};
+use crate::scene::{JointKind, Shape};
 
 /// A protrusion whose centre is within this distance (m) of the contact is the handle.
 const HANDLE_SNAP: f64 = 0.05;
@@ -120,23 +120,17 @@ impl Outline {
             normal.cross(&Vector3::x()).try_normalize(1e-9)?
         };
         let across = [first, normal.cross(&first).try_normalize(1e-9)?];
-        let ranges = across.map(|a| {
-            let mut v: Vec<f64> = front.iter().map(|p| p.coords.dot(&a)).collect();
-            v.sort_by(f64::total_cmp);
-            let cut = ((trim * v.len() as f64).floor() as usize).min((v.len() - 1) / 2);
-            (v[cut], v[v.len() - 1 - cut])
-        });
+        let ranges = across.map(|a| trimmed_range(front.iter().map(|p| p.coords.dot(&a)), trim));
         Some(Outline { across, ranges })
     }
 
     /// Whether the centre of `cluster` lies within the outline.
     fn covers(&self, cluster: &[Point3<f64>]) -> bool {
-        let sum = cluster.iter().fold(Vector3::zeros(), |a, p| a + p.coords);
-        let centre = sum / cluster.len() as f64;
+        let centre = centre(cluster);
         self.across
             .iter()
             .zip(&self.ranges)
-            .all(|(a, (lo, hi))| (*lo..=*hi).contains(&centre.dot(a)))
+            .all(|(a, (lo, hi))| (*lo..=*hi).contains(&centre.coords.dot(a)))
     }
 }
 
@@ -200,6 +194,11 @@ fn front_normal(
     })
 }
 
+/// The mean of `points` (non-empty).
+fn centre(points: &[Point3<f64>]) -> Point3<f64> {
+    Point3::from(points.iter().fold(Vector3::zeros(), |a, p| a + p.coords) / points.len() as f64)
+}
+
 /// The grasp point: the centre of the protrusion nearest the contact (the handle as the
 /// camera saw it, hundreds of points), when one is within `HANDLE_SNAP`; else the contact
 /// (where the detector put the handle, about a centimetre off). Noted when it is the
@@ -211,10 +210,7 @@ pub(super) fn grasp_point(
 ) -> Point3<f64> {
     let grasp = protrusions
         .iter()
-        .map(|cluster| {
-            let sum = cluster.iter().fold(Vector3::zeros(), |a, p| a + p.coords);
-            Point3::from(sum / cluster.len() as f64)
-        })
+        .map(|cluster| centre(cluster))
         .map(|m| (m, (m - c).norm()))
         .filter(|(_, d)| *d <= HANDLE_SNAP)
         .min_by(|a, b| a.1.total_cmp(&b.1));
@@ -236,7 +232,7 @@ pub(super) fn part_boxes(
     split: &FrontSplit,
     line: &JointLine,
     normal: &Vector3<f64>,
-    model: &SceneModel,
+    base: &[PlacedShape],
     s: &DiscoverySettings,
     notes: &mut Vec<String>,
 ) -> Vec<OrientedBox> {
@@ -248,7 +244,7 @@ pub(super) fn part_boxes(
             oriented_box_along(cloud, &line.axis, Some(normal), trim, s.min_half_extent)
         {
             if k == 0 && line.kind == JointKind::Prismatic && s.drawer_body {
-                let (body, note) = drawer_body(model, &b, &line.axis, line.upper);
+                let (body, note) = drawer_body(base, &b, &line.axis, line.upper);
                 boxes.extend(body);
                 notes.push(note);
             }
@@ -272,12 +268,11 @@ const BODY_SHRINK_STEP: f64 = 0.005;
 /// [`BODY_MAX_SHRINK`]; `None` if it never is (a map that shows the carcass solid). With the
 /// note for the log.
 fn drawer_body(
-    model: &SceneModel,
+    base: &[PlacedShape],
     front: &OrientedBox,
     axis: &Vector3<f64>,
     depth: f64,
 ) -> (Option<OrientedBox>, String) {
-    let base = placed_base(model);
     let h = front.half_extents;
     let limit = BODY_MAX_SHRINK * h.x.min(h.y);
     let mut shrink = 0.0;

@@ -83,9 +83,9 @@ pub(crate) fn new_part(
 ) -> Result<NewPart, String> {
     let mut notes = Vec::new();
     let c = observed.contact_pre;
+    let base = placed_base(model);
     let mut line = joint_line(estimate, c, s, &mut notes)?;
     if line.kind == JointKind::Revolute {
-        let base = points::placed_base(model);
         if let Some((moved, d)) = pivot_out_of(&base, &line.axis, &line.origin, &observed.normal) {
             notes.push(format!(
                 "the estimated hinge lay inside the base map; moved {d:.3} m out along the \
@@ -97,10 +97,10 @@ pub(crate) fn new_part(
     let (mut spec, world_from_joint) = attach(index, &line, c, model, state, s)?;
     // Part frame = joint frame at value 0 = the closed pose observed before the interaction.
     let part_from_world = world_from_joint.inverse();
-    let points = part_points(estimate, observed, model, &line, s, &mut notes);
+    let points = part_points(estimate, observed, &base, &line, s, &mut notes);
     let (split, normal) = front(points, &line.axis, &observed.normal, s, &mut notes);
     let grasp = grasp_point(&split.protrusions, &c, &mut notes);
-    let boxes = part_boxes(&split, &line, &normal, model, s, &mut notes);
+    let boxes = part_boxes(&split, &line, &normal, &base, s, &mut notes);
     let boxed = !boxes.is_empty();
     for b in boxes {
         spec = spec.with_collider(

@@ -26,7 +26,7 @@ const NOISE_MULTIPLIER: f64 = 4.0;
 pub(super) fn part_points(
     estimate: &Estimate,
     observed: &Observed<'_>,
-    model: &SceneModel,
+    base: &[PlacedShape],
     line: &JointLine,
     s: &DiscoverySettings,
     notes: &mut Vec<String>,
@@ -60,7 +60,7 @@ pub(super) fn part_points(
         }
     }
     let before = points.len();
-    let points = clear_of_base(model, points, s.base_clearance);
+    let points = clear_of_base(base, points, s.base_clearance);
     if points.len() < before {
         notes.push(format!(
             "{} of {before} part points lie within {} m of the base map at the closed pose \
@@ -116,15 +116,18 @@ fn hinge_side(
 }
 
 /// The points of `points` (the part at its closed pose, map frame) farther than `clearance`
-/// from every shape of the model's base map. A front closed in its carcass stands in front of
+/// from every shape of the base map (`base`, [`placed_base`]). A front closed in its carcass stands in front of
 /// the static surfaces around it, so points on them are static surfaces taken for the part
 /// (seen through the gap the open part left, or within the segmentation's tolerance); kept in
 /// the box they make it overlap the carcass at the closed state.
-fn clear_of_base(model: &SceneModel, points: Vec<Point3<f64>>, clearance: f64) -> Vec<Point3<f64>> {
+fn clear_of_base(
+    base: &[PlacedShape],
+    points: Vec<Point3<f64>>,
+    clearance: f64,
+) -> Vec<Point3<f64>> {
     if clearance <= 0.0 {
         return points;
     }
-    let base = placed_base(model);
     points
         .into_iter()
         .filter(|p| base.iter().all(|b| b.distance(p) > clearance))
