@@ -5,7 +5,9 @@
 //! paths (`arm_time_shortcuts: 0`).
 //!
 //! `cargo bench --bench plan` (optionally `-- RUNS`, default 3; `-- RUNS GOAL_NAME…` for some
-//! goals only).
+//! goals only; `fixed-base` among the arguments sets [`PlannerSettings::whole_body`] to `None` and
+//! `bar-turn=RAD` [`PlacementSettings::bar_turn`](kinscene::motion::placement::PlacementSettings::bar_turn) in every configuration, to measure a
+//! setting against the defaults in two commands).
 //!
 //! Every goal in `examples/scenes/goals/` is planned on the scene its header names
 //! (`examples/scenes/<scene>.urdf`: the kitchen, the appliances, the counter, the galley)
@@ -104,10 +106,26 @@ fn main() {
         .and_then(|a| a.parse().ok())
         .unwrap_or(3)
         .max(1);
-    let only: Vec<String> = args.iter().skip(1).cloned().collect();
+    let mut base = PlannerSettings::default();
+    let mut only: Vec<String> = Vec::new();
+    for a in args.iter().skip(1) {
+        if a == "fixed-base" {
+            base.whole_body = None;
+        } else if let Some(v) = a.strip_prefix("bar-turn=") {
+            base.placement.bar_turn = v.parse().expect("bar-turn=RAD takes a number");
+        } else {
+            only.push(a.clone());
+        }
+    }
     println!(
-        "plan: the Gen3 on the shipped goals, {runs} run(s) each, budget {} s",
-        BUDGET.as_secs()
+        "plan: the Gen3 on the shipped goals, {runs} run(s) each, budget {} s, whole body {}, bar turn {} rad",
+        BUDGET.as_secs(),
+        if base.whole_body.is_some() {
+            "on"
+        } else {
+            "off"
+        },
+        base.placement.bar_turn
     );
     println!(
         "{:<18} {:<12} {:>9} {:>9} {:>6} {:>10} {:>10} {:>6} {:>12} {:>6}  target",
@@ -140,8 +158,7 @@ fn main() {
         let mut times = Vec::with_capacity(runs);
         let mut last = None;
         for _ in 0..runs {
-            let (outcome, seconds, steps, exec) =
-                plan_once(&scene, &problem, PlannerSettings::default());
+            let (outcome, seconds, steps, exec) = plan_once(&scene, &problem, base.clone());
             times.push(seconds);
             last = Some((outcome, steps, exec));
         }
@@ -149,12 +166,12 @@ fn main() {
         let (outcome, steps, exec) = last.unwrap_or_default();
         let stops = PlannerSettings {
             blend: None,
-            ..PlannerSettings::default()
+            ..base.clone()
         };
         let (_, _, _, exec_stops) = plan_once(&scene, &problem, stops);
         let straight = PlannerSettings {
             arm_time_shortcuts: 0,
-            ..PlannerSettings::default()
+            ..base.clone()
         };
         let (_, _, _, exec_straight) = plan_once(&scene, &problem, straight);
         let target = match (steps, problem.goal.targets().len()) {

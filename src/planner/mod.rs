@@ -70,8 +70,11 @@
 //! refine, the one with the shorter execution time is kept ([`StepMotion::mode`],
 //! [`StepMotion::compared`]); when neither does, the step fails with both reasons
 //! ([`StepReason::WholeBodyMissed`]). A step that one base pose covers is refined as without
-//! the setting. The default is off: the paper's fixed-base manipulation, and every consumer of
-//! a plan may assume the base stands still while the arm moves.
+//! the setting. It is on by default (with [`WholeBodySettings::default`]): a consumer that
+//! executes a plan follows [`StepMotion::manipulation_base`] when it is `Some`. `None` is the
+//! paper's fixed-base manipulation, under which the base stands still whenever the arm moves.
+//!
+//! [`WholeBodySettings::default`]: crate::motion::placement::WholeBodySettings
 //!
 //! # Approximations
 //! One approximation: whether the *base path* to a move exists also depends on where the robot

@@ -103,10 +103,12 @@ pub struct PlannerSettings {
     /// from the base pose where the fixed-base arm follows the handle furthest). When the
     /// step can also be executed in segments, the alternative with the shorter execution time
     /// is kept ([`StepMotion::mode`](super::StepMotion::mode) says which; see the
-    /// [planner's docs](super#whole-body-manipulation)). `None` (the default): every
-    /// manipulation keeps its base still, the paper's manipulation planner (with segments up
-    /// to `max_segments`); opt in because consumers that execute a plan must then follow the
-    /// base during the manipulation ([`StepMotion::manipulation_base`](super::StepMotion::manipulation_base)).
+    /// [planner's docs](super#whole-body-manipulation)). Default
+    /// `Some(WholeBodySettings::default())`: a consumer that executes a plan must then follow
+    /// the base during a manipulation whose
+    /// [`StepMotion::manipulation_base`](super::StepMotion::manipulation_base) is `Some`.
+    /// `None`: every manipulation keeps its base still, the paper's manipulation planner (with
+    /// segments up to `max_segments`).
     /// With it, the task level's manipulation regions admit a base cell that covers a prefix
     /// of the handle trajectory with the rest covered from other cells, up to one per grasp
     /// point (`task.manipulation.segments`), so that it does not rule out what the moving base
@@ -140,7 +142,7 @@ impl Default for PlannerSettings {
             max_segments: 4,
             arm_spheres: Some(SphereSettings::default()),
             certified_arm_edges: None,
-            whole_body: None,
+            whole_body: Some(WholeBodySettings::default()),
         }
     }
 }

@@ -575,8 +575,14 @@ fn the_longest_prefix_objective_goes_at_least_as_far_as_the_paper_s() {
     // drawn), and along each candidate IK computes the same configurations up to its first
     // miss: the longest reached prefix over them is at least that of the paper's winner.
     let (joint, handle, to) = ("sink_door_hinge", "sink_door_handle", 1.92);
-    let paper = plan_and_recheck(joint, handle, to, &PlacementSettings::default());
-    let mut settings = PlacementSettings::default();
+    // The paper's grasp, along the handle's normal (`recheck` computes the grasp frames from
+    // the normal; turned grasps of bar handles: tests/planner/corner.rs).
+    let normal = PlacementSettings {
+        bar_turn: 0.0,
+        ..PlacementSettings::default()
+    };
+    let paper = plan_and_recheck(joint, handle, to, &normal);
+    let mut settings = normal.clone();
     settings.sampling.objective = PlacementObjective::LongestPrefix;
     let prefix = plan_and_recheck(joint, handle, to, &settings);
     eprintln!(

@@ -45,6 +45,9 @@ fn setup(robot: RobotModel) -> Setup {
     let settings = PlacementSettings {
         method: PlacementMethod::Sampled,
         stow: Some(robot.neutral()),
+        // The grasp along the handle's normal: this file's checks compute the grasp frame
+        // from the normal (turned grasps of bar handles: tests/planner/corner.rs).
+        bar_turn: 0.0,
         ..PlacementSettings::default()
     };
     Setup {

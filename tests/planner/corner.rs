@@ -203,10 +203,24 @@ fn bar_turn_settings_are_checked_and_give_the_angles_each_way() {
         ..PlacementSettings::default()
     });
     assert!(err.contains("bar_turn_steps"), "{err}");
-    assert!(PlacementSettings::default().bar_turns().is_empty());
-    let settings = PlacementSettings {
-        bar_turn: 1.2,
+    let none = PlacementSettings {
+        bar_turn: 0.0,
         ..PlacementSettings::default()
     };
-    assert_eq!(settings.bar_turns(), [0.6, -0.6, 1.2, -1.2]);
+    assert!(none.bar_turns().is_empty());
+    // The default, 1.2 rad in two steps: the smaller turns first, each way.
+    assert_eq!(
+        PlacementSettings::default().bar_turns(),
+        [0.6, -0.6, 1.2, -1.2]
+    );
+    let finer = PlacementSettings {
+        bar_turn: 0.9,
+        bar_turn_steps: 3,
+        ..PlacementSettings::default()
+    };
+    let expected = [0.3, -0.3, 0.6, -0.6, 0.9, -0.9];
+    for (a, b) in finer.bar_turns().iter().zip(expected) {
+        assert!((a - b).abs() < 1e-12, "{:?}", finer.bar_turns());
+    }
+    assert_eq!(finer.bar_turns().len(), expected.len());
 }

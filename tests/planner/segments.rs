@@ -18,6 +18,7 @@ use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
 use kinscene::kinematics::robot::RobotModel;
+use kinscene::motion::placement::PlacementSettings;
 use kinscene::planner::{
     Check, HierarchicalPlanner, MotionDocument, MotionOutcome, MotionPlan, PlannerError,
     PlannerResult, PlannerSettings, StepReason,
@@ -60,6 +61,14 @@ fn settings(max_segments: usize) -> PlannerSettings {
             ..TaskSettings::default()
         },
         max_segments,
+        // The base stands still while the arm moves (whole-body manipulation: whole_body.rs).
+        whole_body: None,
+        // The grasp along the handle's normal: the checks below compute the grasp frame from
+        // the normal (turned grasps of bar handles: corner.rs).
+        placement: PlacementSettings {
+            bar_turn: 0.0,
+            ..PlacementSettings::default()
+        },
         ..PlannerSettings::default()
     }
 }

@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 
 use kinscene::kinematics::pinocchio::{Data, forward_kinematics, frame_placement};
 use kinscene::kinematics::robot::RobotModel;
-use kinscene::motion::placement::WholeBodySettings;
+use kinscene::motion::placement::{PlacementSettings, WholeBodySettings};
 use kinscene::planner::{
     Check, HierarchicalPlanner, MotionDocument, MotionOutcome, MotionPlan, PlannerError,
     PlannerResult, PlannerSettings, StepMode, StepMotion, StepReason,
@@ -51,6 +51,12 @@ fn settings(max_segments: usize, whole_body: bool) -> PlannerSettings {
             ..TaskSettings::default()
         },
         max_segments,
+        // The grasp along the handle's normal: the checks below compute the grasp frame from
+        // the normal (turned grasps of bar handles: corner.rs).
+        placement: PlacementSettings {
+            bar_turn: 0.0,
+            ..PlacementSettings::default()
+        },
         whole_body: whole_body.then(WholeBodySettings::default),
         ..PlannerSettings::default()
     }

@@ -4,7 +4,7 @@
 //! The document is [`kinscene::planner::MotionDocument`]: the task plan document plus, per
 //! step, the base path, the base pose, the arm paths, the manipulation trajectory and their
 //! timing (per segment, numbered within the step, for a step that no single base pose covers;
-//! at most `--max-segments` of them; with `--whole-body`, the base poses of a manipulation
+//! at most `--max-segments` of them; unless `--fixed-base`, the base poses of a manipulation
 //! during which the base moves), and the moves the motion layer vetoed. Exit codes as
 //! `plan`.
 

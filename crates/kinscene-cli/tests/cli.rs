@@ -754,9 +754,9 @@ fn max_segments_is_a_positive_count_for_a_robot() {
 #[test]
 fn whole_body_moves_the_base_during_the_wide_door_and_needs_a_robot() {
     // examples/scenes/goals/wide_door.toml: the 0.6 m cabinet door that no single Gen3 base
-    // pose covers. With --whole-body the document's one entry moves the base during the
-    // manipulation (a base pose per manipulation waypoint, the same times) and records the
-    // segments' time it beat; without it, the entries keep their base still.
+    // pose covers. By default (whole-body manipulation) the document's one entry moves the base
+    // during the manipulation (a base pose per manipulation waypoint, the same times) and
+    // records the segments' time it beat; with --fixed-base, the entries keep their base still.
     let scene = repo().join("examples/scenes/appliances.urdf");
     let goal = goal_path("wide_door.toml");
     let run = |extra: &[&str]| -> Value {
@@ -767,12 +767,12 @@ fn whole_body_moves_the_base_during_the_wide_door_and_needs_a_robot() {
         assert_eq!(output.status.code(), Some(0), "{output:?}");
         serde_json::from_slice(&output.stdout).expect("plan prints JSON")
     };
-    let fixed = run(&[]);
+    let fixed = run(&["--fixed-base"]);
     for m in fixed["motion"].as_array().unwrap() {
         assert!(m.get("manipulation_base").is_none(), "{m}");
         assert_ne!(m["mode"], "whole_body");
     }
-    let doc = run(&["--whole-body"]);
+    let doc = run(&[]);
     let motion = doc["motion"].as_array().unwrap();
     if let [m] = motion.as_slice() {
         assert_eq!(m["mode"], "whole_body");
@@ -790,17 +790,24 @@ fn whole_body_moves_the_base_during_the_wide_door_and_needs_a_robot() {
                 .all(|m| m["mode"] == "segment" && m["compared"].is_object())
         );
     }
-    let output = plan_kitchen(&goal, &["--whole-body"]);
-    assert_eq!(output.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&output.stderr).contains("--robot"));
+    for flags in [&["--whole-body"][..], &["--fixed-base"]] {
+        let output = plan_kitchen(&goal, flags);
+        assert_eq!(output.status.code(), Some(2));
+        assert!(String::from_utf8_lossy(&output.stderr).contains("--robot"));
+    }
+    // The two modes contradict each other: rejected by the argument parser.
+    let output = plan_kitchen(&goal, &["--robot", "gen3", "--whole-body", "--fixed-base"]);
+    assert_eq!(output.status.code(), Some(2), "{output:?}");
 }
 
 #[test]
 fn turned_bar_grasps_open_the_corner_doors_back_first_and_the_plan_validates() {
     // examples/scenes/goals/corner_order.toml: the back corner door to 1.2 rad and the side
     // door to 0.6 rad. Past about 0.8 rad each corner handle faces the neighbouring run, so
-    // the Gen3 needs a grasp turned about the bar (`--bar-turn`); the side door's sweep meets
-    // the back door's, so the back door goes first (the goal file's header has the numbers).
+    // the Gen3 needs a grasp turned about the bar (`--bar-turn`, default 1.2) and the base
+    // moving along (the default); the side door's sweep meets the back door's, so the back
+    // door goes first (the goal file's header has the numbers). The command is the goal
+    // file's own, with the defaults a new user gets.
     // The plan is checked step by step by `kinscene validate` (the task level's own validator,
     // which replays the sweeps in exact geometry); the grasp contact rule of these plans is
     // re-checked in the library's tests (tests/planner/corner.rs).
@@ -808,17 +815,7 @@ fn turned_bar_grasps_open_the_corner_doors_back_first_and_the_plan_validates() {
     let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("corner_order.json");
     let output = plan_kitchen(
         &goal,
-        &[
-            "--robot",
-            "gen3",
-            "--whole-body",
-            "--bar-turn",
-            "1.2",
-            "--seed",
-            "1",
-            "--out",
-            arg(&out),
-        ],
+        &["--robot", "gen3", "--seed", "1", "--out", arg(&out)],
     );
     assert_eq!(output.status.code(), Some(0), "{output:?}");
     let doc: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();

@@ -95,8 +95,8 @@ pub use optimised::PlacementData;
 pub use plan::{ManipulationPlan, Obstacle, WaypointFailure};
 pub use reach::{ArmReach, arm_reach};
 pub use settings::{
-    MAX_STEPS, ManipulationSettings, OptimisationSettings, PlacementMethod, PlacementObjective,
-    PlacementSettings, SamplingSettings,
+    DEFAULT_BAR_TURN, MAX_STEPS, ManipulationSettings, OptimisationSettings, PlacementMethod,
+    PlacementObjective, PlacementSettings, SamplingSettings,
 };
 pub use whole_body::{
     WholeBodyAttempt, WholeBodyFailure, WholeBodyOutcome, WholeBodyPlan, WholeBodySettings,

@@ -236,30 +236,23 @@ pub struct Config {
     pub viewpoints: ViewpointChoice,
     /// Whole-body manipulation in the planner (`PlannerSettings::whole_body` with its
     /// defaults, for Ours, Oracle and Random's refinement alike): a step that no single base
-    /// pose covers may be executed with the base moving along with the arm. On by default;
-    /// off (`--fixed-base`) is the paper's fixed-base manipulation.
+    /// pose covers may be executed with the base moving along with the arm. On by default, as
+    /// in the library; off (`--fixed-base`) is the paper's fixed-base manipulation.
     #[serde(default = "default_whole_body")]
     pub whole_body: bool,
     /// Grasps turned about a bar handle (`PlacementSettings::bar_turn`, rad, in [0, π/2]; 0:
-    /// the fingers across the bar only). Default [`KITCHEN_BAR_TURN`].
+    /// the fingers across the bar only). Default: the library's,
+    /// [`DEFAULT_BAR_TURN`](kinscene::motion::placement::DEFAULT_BAR_TURN).
     #[serde(default = "default_bar_turn")]
     pub bar_turn: f64,
 }
-
-/// The kitchen's turn of grasps about bar handles (rad): past about 0.8 rad each corner
-/// door's vertical bar faces the neighbouring run, and grasped across the bar the Gen3's wrist
-/// and base meet that run; turned by up to 1.2 rad, with the base moving along, the back door
-/// opens to 0.8 rad in Table I (5 of 5 runs, Ours and Oracle; 0 of 5 with the fingers across
-/// the bar and a fixed base), and Fig. 5 is unchanged (measured with
-/// `examples/scenes/goals/corner_order.toml`'s setting, 1.2).
-pub const KITCHEN_BAR_TURN: f64 = 1.2;
 
 fn default_whole_body() -> bool {
     true
 }
 
 fn default_bar_turn() -> f64 {
-    KITCHEN_BAR_TURN
+    kinscene::motion::placement::DEFAULT_BAR_TURN
 }
 
 /// Algorithm 1's settings for the kitchen and the simulated Gen3: the library defaults except
@@ -326,7 +319,7 @@ impl Default for Config {
             head_rays: None,
             discovery: kitchen_discovery_settings(),
             whole_body: default_whole_body(),
-            bar_turn: KITCHEN_BAR_TURN,
+            bar_turn: default_bar_turn(),
             viewpoints: ViewpointChoice::Kitchen,
         }
     }

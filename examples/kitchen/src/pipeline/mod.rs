@@ -45,9 +45,7 @@ use kinscene::scene::urdf;
 use super::report::svg;
 use super::sim;
 
-pub use config::{
-    Config, EstimatorChoice, Experiment, ExploreScope, KITCHEN_BAR_TURN, Method, ViewpointChoice,
-};
+pub use config::{Config, EstimatorChoice, Experiment, ExploreScope, Method, ViewpointChoice};
 pub use manipulation::{Category, PRISMATIC_TOLERANCE, REVOLUTE_TOLERANCE};
 pub use scene_run::{PlanSummary, SceneRunReport, run_scene};
 pub use sequences::{EXTRA_SEQUENCES, SEQUENCES, START_BASE};
