@@ -272,6 +272,8 @@ fn main() {
     let settings = PathSettings {
         budget: Duration::from_secs_f64(budget),
         seed: Some(1),
+        // The full simplifier, the hierarchical planner's (the paths' default is Shortcut).
+        simplifier: Simplifier::Full,
         ..PathSettings::default()
     };
     let shortcut = PathSettings {

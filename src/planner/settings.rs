@@ -8,7 +8,7 @@ use super::PlannerError;
 use crate::InvalidSetting;
 use crate::kinematics::ik::IkSettings;
 use crate::kinematics::robot::{EdgeSettings, RobotModel, SphereSettings};
-use crate::motion::paths::PathSettings;
+use crate::motion::paths::{PathSettings, Simplifier};
 use crate::motion::placement::{PlacementError, PlacementSettings, WholeBodySettings};
 use crate::motion::timing::BlendSettings;
 use crate::task::TaskSettings;
@@ -32,6 +32,8 @@ pub struct PlannerSettings {
     /// gives the same plan, as long as no path search ends on its wall-clock budget (a path
     /// that is hard to find, or does not exist, ends there; raise `paths.budget` to make that
     /// rarer). Seeded path searches are serialised process-wide (OMPL has one generator).
+    /// The planner's default simplifier is [`Simplifier::Full`] (the shortest, smoothest
+    /// paths: its paths are executed, and re-checked densely), not the paths' own default.
     pub paths: PathSettings,
     /// Clearance (m) the robot keeps from the scene along base paths (arm paths keep the
     /// smaller of this and the placement's `manipulation.margin`, since they start or end at
@@ -130,6 +132,7 @@ impl Default for PlannerSettings {
             placement: PlacementSettings::default(),
             paths: PathSettings {
                 seed: Some(1),
+                simplifier: Simplifier::Full,
                 ..PathSettings::default()
             },
             margin: 0.02,

@@ -85,9 +85,15 @@ pub struct PathSettings {
     /// true.
     pub simplify: bool,
     /// What simplification does when [`PathSettings::simplify`] is on. Default
-    /// [`Simplifier::Full`] (OMPL's full simplifier, shortest and smoothest paths);
-    /// [`Simplifier::Shortcut`] gets most of the shortening for a fraction of the motion
-    /// checks.
+    /// [`Simplifier::Shortcut`]: most of the shortening for a fraction of the motion checks,
+    /// and no new states between the planner's (on the MotionBenchMaker Panda set with
+    /// [`plan_arm_checked`], a median plan time about 3× lower than with
+    /// [`Simplifier::Full`], and 1 path in 187 instead of 16 failing an exact re-check at a
+    /// quarter of the checking resolution: the full simplifier's smoothing puts states where
+    /// only the motion check has looked). [`Simplifier::Full`] (OMPL's full simplifier) gives
+    /// the shortest, smoothest paths; the hierarchical planner uses it
+    /// ([`PlannerSettings`](crate::planner::PlannerSettings)), as its paths are executed and
+    /// re-checked densely.
     pub simplifier: Simplifier,
     /// Seed for OMPL's random generator: with a seed, the same call gives the same path
     /// (given a deterministic validity closure and a planner that stops before its budget).
@@ -105,7 +111,7 @@ impl Default for PathSettings {
             resolution: 0.01,
             range: None,
             simplify: true,
-            simplifier: Simplifier::Full,
+            simplifier: Simplifier::Shortcut,
             seed: None,
         }
     }
