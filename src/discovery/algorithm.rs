@@ -77,9 +77,14 @@ pub struct Discovery {
 ///
 ///    The attempt succeeds when the contact is `target_pull` from the handle's first grasp
 ///    point (the opening over all attempts so far), or all steps ran with the part displaced.
-///    A failed local navigation or pre-interaction observation uses up an attempt; the next
-///    one retries from the same pose. If every attempt failed at local navigation, the handle
-///    is a [`Stage::Navigation`] failure, otherwise a [`Stage::Exploration`] failure.
+///    A failed local navigation or pre-interaction observation uses up an attempt. After a
+///    failed observation the next attempt retries from the same pose. After a failed local
+///    navigation (the robot's own navigation refused the goal: something the base map does
+///    not hold stands there) the next attempt goes to the free pose found as in PlanBase, at
+///    the same distance from the handle, that keeps `robot_radius` from every refused goal
+///    (the same pose if there is none); the log notes it. If every attempt failed at local
+///    navigation, the handle is a [`Stage::Navigation`] failure, otherwise a
+///    [`Stage::Exploration`] failure.
 /// 4. **Reposition** after a failed attempt (the arm is retracted first): the motion seen is
 ///    classified ([`MotionClass`](super::MotionClass)) from the tracked plane — the turn of
 ///    the surface normal between the first and last step (the end effector's rotation when

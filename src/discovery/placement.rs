@@ -79,9 +79,39 @@ pub(crate) fn plan_base(
     distance: f64,
     search_radius: f64,
 ) -> Option<Isometry2<f64>> {
+    plan_base_where(target, direction, distance, search_radius, |p| {
+        free.is_free(p)
+    })
+}
+
+/// [`plan_base`] keeping `keep_off` (m) from every position in `refused`: the goals the
+/// robot's own navigation refused (something the map does not hold stands there), so that
+/// the next attempt goes elsewhere instead of to the same refused goal.
+pub(crate) fn plan_base_avoiding(
+    free: &FreeSpace,
+    target: &Point3<f64>,
+    direction: &Vector2<f64>,
+    distance: f64,
+    search_radius: f64,
+    refused: &[Point2<f64>],
+    keep_off: f64,
+) -> Option<Isometry2<f64>> {
+    plan_base_where(target, direction, distance, search_radius, |p| {
+        free.is_free(p) && refused.iter().all(|r| (p - r).norm() >= keep_off)
+    })
+}
+
+/// [`plan_base`] with `is_free` deciding which positions are free.
+fn plan_base_where(
+    target: &Point3<f64>,
+    direction: &Vector2<f64>,
+    distance: f64,
+    search_radius: f64,
+    is_free: impl Fn(&Point2<f64>) -> bool,
+) -> Option<Isometry2<f64>> {
     let t = Point2::new(target.x, target.y);
     let nominal = t + direction * distance;
-    if free.is_free(&nominal) {
+    if is_free(&nominal) {
         return Some(facing(nominal, target));
     }
     let radial = (search_radius / RADIAL_STEP).floor() as i64;
@@ -97,7 +127,7 @@ pub(crate) fn plan_base(
             }
             let p = t + dir * dist;
             let off = (p - nominal).norm();
-            if off > search_radius || !free.is_free(&p) {
+            if off > search_radius || !is_free(&p) {
                 continue;
             }
             let key = ((dist - distance).abs(), angle.abs(), off);

@@ -13,7 +13,7 @@ use kinscene::discovery::{
     fuse_detections, register_handles,
 };
 use kinscene::scene::{JointKind, SceneModel, Shape, urdf};
-use nalgebra::{Isometry2, Point3, Vector2, Vector3};
+use nalgebra::{Isometry2, Point2, Point3, Vector2, Vector3};
 
 use super::scenes::{
     DOOR_AXIS, DOOR_PIVOT, DRAWER_AXIS, door_cabinet, door_with_tray, drawer_cabinet,
@@ -305,6 +305,48 @@ fn an_injected_grasp_failure_is_repositioned_and_retried() {
     );
     assert!(log.attempts[1].end.is_success());
     assert_eq!(world.grasps, 2);
+    assert_eq!(d.model.joints()[0].kind, JointKind::Prismatic);
+}
+
+#[test]
+fn a_refused_navigation_goal_is_not_tried_again() {
+    // A chair the base map does not hold stands 0.55 m in front of the drawer's handle (world
+    // (0.3, -0.05), scenes.rs), where the robot would stand to pull (interaction distance
+    // 0.6 m): the test world's navigation refuses every goal within 0.02 + 0.25 m of it. The
+    // global approach (0.9 m out) is 0.35 m from it and free. Hand-derived: PlanBase's
+    // candidates at the same 0.6 m are turned in 10° steps, 2 · 0.6 · sin(θ/2) from the
+    // refused goal: 0.10 and 0.21 m at 10° and 20° (within the 0.3 m robot radius of
+    // discovery's settings), 0.31 m at 30°, which lies (±0.30, -0.52) from the handle against
+    // the chair's (0, -0.55): 0.30 m > 0.27 m, free. Before refused goals were avoided, all
+    // three attempts went to the same goal and the drawer was a navigation failure.
+    let settings = DiscoverySettings {
+        axis_snap: 0.0,
+        max_extra_pulls: 0,
+        ..DiscoverySettings::default()
+    };
+    let (_, d) = run_with(
+        drawer_cabinet(),
+        &TwoView::default(),
+        23,
+        |w| w.unmapped.push((Point2::new(0.3, -0.6), 0.02)),
+        &settings,
+    );
+    let log = &d.log[0];
+    assert!(log.succeeded(), "{log:#?}");
+    assert!(
+        matches!(log.attempts[0].end, AttemptEnd::Navigation { .. }),
+        "{:?}",
+        log.attempts[0].end
+    );
+    let first = log.attempts[0].world_from_base.translation.vector;
+    let second = log.attempts[1].world_from_base.translation.vector;
+    assert!((second - first).norm() >= settings.robot_radius - 1e-9);
+    assert!(
+        log.attempts[1].end.is_success(),
+        "{:?}",
+        log.attempts[1].end
+    );
+    assert!(log.notes.iter().any(|n| n.contains("navigation refused")));
     assert_eq!(d.model.joints()[0].kind, JointKind::Prismatic);
 }
 

@@ -86,6 +86,9 @@ pub struct World {
     pub fixed_handles: Vec<(Point3<f64>, Vector3<f64>)>,
     /// The next this-many grasps fail with `GraspLost` (fault injection).
     pub grasp_failures: usize,
+    /// Obstacles the scene model (and so the base map) does not hold, e.g. a chair: discs
+    /// (centre, radius, m) that navigation keeps the robot radius from.
+    pub unmapped: Vec<(Point2<f64>, f64)>,
     /// Number of grasp calls so far.
     pub grasps: usize,
     base: Isometry2<f64>,
@@ -110,6 +113,7 @@ impl World {
             settings,
             fixed_handles: Vec::new(),
             grasp_failures: 0,
+            unmapped: Vec::new(),
             grasps: 0,
             base,
             ee: Isometry3::identity(),
@@ -262,6 +266,14 @@ impl World {
     }
 
     fn free(&self, pose: &Isometry2<f64>) -> bool {
+        let at = Point2::from(pose.translation.vector);
+        if self
+            .unmapped
+            .iter()
+            .any(|(c, r)| (at - c).norm() < r + self.settings.robot_radius)
+        {
+            return false;
+        }
         let grid = self
             .model
             .base_grid()

@@ -1,13 +1,13 @@
 //! The attempts of one handle: grasp and pull, regrasp where the handle is re-detected,
 //! Reposition between attempts, and what the attempts leave for the estimators.
 
-use nalgebra::{Isometry2, Isometry3, Point3, Unit, Vector2, Vector3};
+use nalgebra::{Isometry2, Isometry3, Point2, Point3, Unit, Vector2, Vector3};
 
 use crate::discovery::error::{DiscoveryError, check_finite};
 use crate::discovery::explore::{AttemptInput, attempt, checked_cloud};
 use crate::discovery::interface::{HardwareFailure, LocalGoal, PointCloud};
 use crate::discovery::log::{AttemptEnd, AttemptLog, HandleLog, MotionClass, Stage};
-use crate::discovery::placement::{FreeSpace, plan_base, shifted};
+use crate::discovery::placement::{FreeSpace, plan_base, plan_base_avoiding, shifted};
 use crate::discovery::settings::DiscoverySettings;
 
 use super::{Near, Pulled, Run, Stop, fail};
@@ -56,6 +56,8 @@ impl Run<'_> {
         };
         // Whether the last attempt's gripper closed where the handle was not.
         let mut missed = false;
+        // The base goals the robot's navigation refused.
+        let mut refused: Vec<Point2<f64>> = Vec::new();
         for k in 0..s.max_attempts {
             let goal = LocalGoal {
                 target: hotspot,
@@ -65,6 +67,35 @@ impl Run<'_> {
                 entry
                     .attempts
                     .push(skipped(b_pre, AttemptEnd::Navigation { failure }));
+                // Something the map does not hold stands within the robot's radius of the
+                // refused goal: the next attempt goes to the free pose nearest the same
+                // distance from the handle that keeps the robot radius from every refused
+                // goal (the same goal again would be refused again).
+                let at = Point2::from(b_pre.translation.vector);
+                refused.push(at);
+                let from_target = at - Point2::new(hotspot.x, hotspot.y);
+                if let Some(b) = from_target.try_normalize(1e-9).and_then(|dir| {
+                    plan_base_avoiding(
+                        free,
+                        &hotspot,
+                        &dir,
+                        from_target.norm(),
+                        s.base_search_radius,
+                        &refused,
+                        s.robot_radius,
+                    )
+                }) {
+                    entry.notes.push(format!(
+                        "attempt {}: navigation refused the base goal ({:.2}, {:.2}); the next                          attempt starts from ({:.2}, {:.2}), at least {} m from every refused                          goal",
+                        k + 1,
+                        at.x,
+                        at.y,
+                        b.translation.x,
+                        b.translation.y,
+                        s.robot_radius
+                    ));
+                    b_pre = b;
+                }
                 continue;
             }
             if missed {
