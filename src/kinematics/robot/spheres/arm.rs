@@ -98,6 +98,9 @@ struct StateScratch {
     pairs: Vec<usize>,
     /// Per link, its enclosing ball (`ArmCheck::balls`) in the world at `poses`.
     world_balls: Vec<Option<(Point3<f64>, f64)>>,
+    /// Per link, its world ball's clearance from every obstacle
+    /// ([`SphereObstacles::ball_clearance`]; `+∞` without a ball), which the spans reuse.
+    ball_gaps: Vec<f32>,
     /// Along the motion being checked: per checked pair, how fast (m per unit of the motion's
     /// parameter) the distance of its links can change, and the distance bounds found with
     /// the parameters they were found at.
@@ -423,10 +426,17 @@ impl<'a> ArmCheck<'a> {
                 .map(|(ball, pose)| ball.map(|(c, r)| (pose * c, r))),
         );
         let ball = |l: usize| s.world_balls.get(l).copied().flatten();
+        s.ball_gaps.clear();
         for l in 0..s.world_balls.len() {
-            let Some((c, r)) = ball(l) else { continue };
+            let Some((c, r)) = ball(l) else {
+                s.ball_gaps.push(f32::INFINITY);
+                continue;
+            };
             let center = [c.x as f32, c.y as f32, c.z as f32];
-            if !self.obstacles.ball_hits(center, r as f32 + SPHERE_SLACK) {
+            let gap = self.obstacles.ball_clearance(center, r as f32);
+            s.ball_gaps.push(gap);
+            // The ball grown by SPHERE_SLACK reaches no obstacle: nor do its spheres.
+            if gap > SPHERE_SLACK {
                 continue;
             }
             let k = s.links.len();

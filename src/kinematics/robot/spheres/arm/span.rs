@@ -93,10 +93,8 @@ impl ArmCheck<'_> {
     /// A bound of at least `enough` may be returned without comparing the link's spheres.
     fn link_bound(&self, l: usize, t: f64, s: &StateScratch, enough: f64) -> f64 {
         let Some(m) = s.links.iter().position(|&x| x == l) else {
-            let ball = self.ball(l, s).map_or(f64::INFINITY, |(c, r)| {
-                let center = [c.x as f32, c.y as f32, c.z as f32];
-                f64::from(self.obstacles.ball_clearance(center, r as f32))
-            });
+            // Computed by the broad phase (`+∞` without a ball).
+            let ball = f64::from(s.ball_gaps.get(l).copied().unwrap_or(f32::INFINITY));
             if ball - CERTIFIED_GAP >= enough {
                 return ball;
             }
