@@ -49,6 +49,7 @@ impl SphereData {
     }
 
     /// One block of 8 lanes from `start`.
+    #[inline]
     pub(super) fn block(&self, start: usize) -> [f32x8; 4] {
         let lane = |v: &[f32]| f32x8::new(v[start..start + LANES].try_into().unwrap_or([FAR; 8]));
         [lane(&self.x), lane(&self.y), lane(&self.z), lane(&self.r)]
