@@ -5,9 +5,10 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use nalgebra::{Isometry3, Point3, Vector3};
 use parry3d_f64::query::{self, Ray};
-use parry3d_f64::shape::{Ball, Capsule, Cuboid, Cylinder, SharedShape};
+use parry3d_f64::shape::{Ball, Capsule, Cuboid, Cylinder, SharedShape, SupportMap};
 
 use super::convert;
+use super::hull::{HullGraph, Walk};
 use crate::scene::Error;
 use crate::scene::shape::{BoundingSphere, Shape};
 
@@ -75,6 +76,9 @@ pub(crate) struct CompiledShape {
     owner_from_parry: Isometry3<f64>,
     /// Bounding sphere in the owner frame.
     pub sphere: BoundingSphere,
+    /// A convex mesh's edge graph, for parry's support points without its scan of every
+    /// vertex (the `hull` module); `None` for other shapes and hulls it does not fit.
+    graph: Option<HullGraph>,
 }
 
 impl fmt::Debug for CompiledShape {
@@ -105,7 +109,15 @@ impl CompiledShape {
             e => e,
         })?;
         let local = shape.bounding_sphere();
+        let graph = match (shape, compiled.as_convex_polyhedron()) {
+            (Shape::ConvexMesh { vertices, .. }, Some(hull)) => {
+                let input: Vec<_> = vertices.iter().map(convert::point).collect();
+                HullGraph::new(&input, hull)
+            }
+            _ => None,
+        };
         Ok(CompiledShape {
+            graph,
             shape: compiled,
             owner_from_parry: owner_from_shape * shape_from_parry,
             sphere: BoundingSphere {
@@ -184,6 +196,15 @@ impl CompiledShape {
         (self.owner_from_parry * center, (maxs - mins) / 2.0, radius)
     }
 
+    /// A hull with an edge graph as a parry support map for one query (`None` for other
+    /// shapes).
+    fn walk(&self) -> Option<Walk<'_>> {
+        Some(Walk::new(
+            self.shape.as_convex_polyhedron()?,
+            self.graph.as_ref()?,
+        ))
+    }
+
     /// The bounding sphere's centre in the world, given the owner's world pose.
     pub(crate) fn world_center(&self, world_from_owner: &Isometry3<f64>) -> Point3<f64> {
         world_from_owner * self.sphere.center
@@ -244,7 +265,15 @@ impl<'a> Placed<'a> {
 
     /// The exact separation distance (m), 0 if touching or overlapping. A pair parry does not
     /// support (none of the convex shapes used here) counts as touching (conservative).
+    ///
+    /// parry's `query::distance`, bit for bit: where a hull with an edge graph meets another
+    /// shape that is not a ball, parry's GJK (the function its dispatcher picks for that pair)
+    /// runs with the hull's support points found by a walk over the graph instead of a scan
+    /// (the same points, see the `hull` module).
     pub(crate) fn distance(&self, other: &Placed<'_>) -> f64 {
+        if let Some(d) = self.walked_distance(other) {
+            return d.max(0.0);
+        }
         query::distance(
             &self.pose,
             &*self.shape.shape,
@@ -253,6 +282,31 @@ impl<'a> Placed<'a> {
         )
         .map(|d| d.distance.max(0.0))
         .unwrap_or(0.0)
+    }
+
+    /// parry's distance of two support-mapped shapes, at least one a hull with a graph, none
+    /// a ball (parry's dispatcher sends balls elsewhere); `None` for other pairs.
+    fn walked_distance(&self, other: &Placed<'_>) -> Option<f64> {
+        let (a, b) = (self.shape, other.shape);
+        if a.graph.is_none() && b.graph.is_none()
+            || a.shape.as_ball().is_some()
+            || b.shape.as_ball().is_some()
+        {
+            return None;
+        }
+        let (wa, wb) = (a.walk(), b.walk());
+        let sa: &dyn SupportMap = match &wa {
+            Some(w) => w,
+            None => a.shape.as_support_map()?,
+        };
+        let sb: &dyn SupportMap = match &wb {
+            Some(w) => w,
+            None => b.shape.as_support_map()?,
+        };
+        let pos12 = self.pose.inv_mul(&other.pose);
+        Some(query::details::distance_support_map_support_map(
+            &pos12, sa, sb,
+        ))
     }
 }
 

@@ -11,6 +11,7 @@
 
 pub(crate) mod convert;
 pub(crate) mod geometry;
+mod hull;
 mod query;
 mod search;
 mod settings;

@@ -10,10 +10,11 @@
 //!
 //! **Along a motion** ([`ArmCheck::check_motion`]) a pair of links whose spheres meet, and a
 //! link whose spheres reach an obstacle, are decided by parry's distance once and then
-//! carried: at a later state of the same straight motion the pair (the link and that
-//! obstacle) is apart as long as that distance, less the most they can have closed in since
-//! (a bound from the joint displacements and the links' lever arms, see `levers`), stays
-//! 1 µm above zero (above the margin). That proves the exact geometry apart, so each state's
+//! carried: at another state of the same straight motion the pair (the link and that
+//! obstacle) is apart as long as one of the distances found at the states evaluated so far,
+//! less the most they can have closed in since (a bound from the joint displacements and the
+//! links' lever arms, see `levers` and the `bounds` module), stays 1 µm above zero (above the
+//! margin). That proves the exact geometry apart, so each state's
 //! answer is still the exact one (anything within 1 µm of the threshold is re-evaluated).
 //!
 //! **Cost per configuration.** Forward kinematics into scratch buffers (no allocation once
@@ -32,7 +33,10 @@ use super::{EdgeScene, RobotSpheres, SphereData, SphereObstacles};
 use crate::kinematics::robot::collision::PlacedScene;
 use crate::kinematics::robot::{ArmJoint, ArmJointKind, RobotCollision, RobotError, RobotModel};
 
+mod bounds;
 mod span;
+
+use bounds::Bounds;
 
 /// The arm's validity against one scene state at a fixed base pose: the exact answer with the
 /// sphere model as broad phase (see the module's answer). Built once per scene state and base
@@ -94,15 +98,18 @@ struct StateScratch {
     pairs: Vec<usize>,
     /// Per link, its enclosing ball (`ArmCheck::balls`) in the world at `poses`.
     world_balls: Vec<Option<(Point3<f64>, f64)>>,
+    /// Per link, its world ball's clearance from every obstacle
+    /// ([`SphereObstacles::ball_clearance`]; `+∞` without a ball), which the spans reuse.
+    ball_gaps: Vec<f32>,
     /// Along the motion being checked: per checked pair, how fast (m per unit of the motion's
-    /// parameter) the distance of its links can change, and the last distance bound found
-    /// with the parameter it was found at.
+    /// parameter) the distance of its links can change, and the distance bounds found with
+    /// the parameters they were found at.
     speed: Vec<f64>,
-    bound: Vec<Option<(f64, f64)>>,
+    bound: Bounds,
     /// The same for a link against one obstacle: per link, how fast it can approach the
-    /// scene, and per link and obstacle (link-major) the last distance bound.
+    /// scene, and per link and obstacle (item `link · obstacles + obstacle`) the bounds.
     link_speed: Vec<f64>,
-    scene_bound: Vec<Option<(f64, f64)>>,
+    scene_bound: Bounds,
     /// The last configuration found valid: asked again (a planner checks a motion's end and
     /// then the motion), it is not recomputed.
     last_valid: Vec<f64>,
@@ -249,8 +256,7 @@ impl<'a> ArmCheck<'a> {
                 .map(|&(j, lever)| (b[j] - a[j]).abs() * lever)
                 .sum::<f64>()
         }));
-        s.bound.clear();
-        s.bound.resize(self.levers.len(), None);
+        s.bound.reset(self.levers.len());
         s.link_speed.clear();
         s.link_speed.extend(self.link_levers.iter().map(|levers| {
             levers
@@ -258,9 +264,8 @@ impl<'a> ArmCheck<'a> {
                 .map(|&(j, lever)| (b[j] - a[j]).abs() * lever)
                 .sum::<f64>()
         }));
-        s.scene_bound.clear();
         s.scene_bound
-            .resize(self.link_levers.len() * self.obstacles.len(), None);
+            .reset(self.link_levers.len() * self.obstacles.len());
         if !self.state_valid(b, Some(1.0), &mut data.state) {
             return false;
         }
@@ -333,32 +338,30 @@ impl<'a> ArmCheck<'a> {
     /// Whether checked pair `p` (spheres meeting) is apart at the poses in `s` (of arm
     /// configuration `q`). A pair whose distance table ([`RobotSpheres::pair_distance_bound`])
     /// certifies it apart by more than [`CERTIFIED_GAP`] is apart, and along a motion that
-    /// bound becomes its last one. Otherwise, outside a motion: parry's touch test. Along a
-    /// motion, at parameter `t`: the pair's last bound
-    /// `(t0, d0)` (a lower bound on the links' distance at `t0`) certifies it apart when
-    /// `d0 − speed·|t − t0| > CERTIFIED_GAP`, since no point of link `k` moves relative to
-    /// link `i` faster than `speed` (m per unit of the parameter, [`levers`]); otherwise
-    /// parry's distance (exact below [`BOUND_CUTOFF`]) decides and becomes the new bound.
+    /// bound becomes one of its bounds. Otherwise, outside a motion: parry's touch test. Along
+    /// a motion, at parameter `t`: each of the pair's bounds `(t0, d0)` (a lower bound on the
+    /// links' distance at `t0`) certifies it apart when `d0 − speed·|t − t0| > CERTIFIED_GAP`,
+    /// since no point of link `k` moves relative to link `i` faster than `speed` (m per unit
+    /// of the parameter, [`levers`]; the `bounds` module); otherwise parry's distance (exact
+    /// below [`BOUND_CUTOFF`]) decides and becomes a bound.
     fn pair_free(&self, p: usize, q: &[f64], at: Option<f64>, s: &mut StateScratch) -> bool {
         let (i, k) = self.spheres.checked_pairs()[p];
         let Some(t) = at else {
             return self.spheres.pair_distance_bound(p, q) > CERTIFIED_GAP
                 || !self.collision.pair_touches(&s.poses, i, k);
         };
-        if let Some((t0, d0)) = s.bound[p] {
-            if d0 - s.speed[p] * (t - t0).abs() > CERTIFIED_GAP {
-                return true;
-            }
+        if s.bound.at(p, t, s.speed[p]) > Some(CERTIFIED_GAP) {
+            return true;
         }
         let table = self.spheres.pair_distance_bound(p, q);
         if table > CERTIFIED_GAP {
-            s.bound[p] = Some((t, table));
+            s.bound.push(p, t, table);
             return true;
         }
         let d = self
             .collision
             .pair_distance_below(&s.poses, i, k, BOUND_CUTOFF);
-        s.bound[p] = Some((t, d));
+        s.bound.push(p, t, d);
         d > 0.0
     }
 
@@ -380,10 +383,8 @@ impl<'a> ArmCheck<'a> {
                 continue;
             }
             let slot = l * self.obstacles.len() + o;
-            if let Some((t0, d0)) = s.scene_bound[slot] {
-                if d0 - s.link_speed[l] * (t - t0).abs() - margin > CERTIFIED_GAP {
-                    continue;
-                }
+            if s.scene_bound.at(slot, t, s.link_speed[l]) > Some(margin + CERTIFIED_GAP) {
+                continue;
             }
             let d = self.collision.link_shape_distance_below(
                 &s.poses,
@@ -392,7 +393,7 @@ impl<'a> ArmCheck<'a> {
                 o,
                 margin + BOUND_CUTOFF,
             );
-            s.scene_bound[slot] = Some((t, d));
+            s.scene_bound.push(slot, t, d);
             if d <= margin {
                 return false;
             }
@@ -425,10 +426,17 @@ impl<'a> ArmCheck<'a> {
                 .map(|(ball, pose)| ball.map(|(c, r)| (pose * c, r))),
         );
         let ball = |l: usize| s.world_balls.get(l).copied().flatten();
+        s.ball_gaps.clear();
         for l in 0..s.world_balls.len() {
-            let Some((c, r)) = ball(l) else { continue };
+            let Some((c, r)) = ball(l) else {
+                s.ball_gaps.push(f32::INFINITY);
+                continue;
+            };
             let center = [c.x as f32, c.y as f32, c.z as f32];
-            if !self.obstacles.ball_hits(center, r as f32 + SPHERE_SLACK) {
+            let gap = self.obstacles.ball_clearance(center, r as f32);
+            s.ball_gaps.push(gap);
+            // The ball grown by SPHERE_SLACK reaches no obstacle: nor do its spheres.
+            if gap > SPHERE_SLACK {
                 continue;
             }
             let k = s.links.len();

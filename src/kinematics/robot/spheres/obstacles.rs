@@ -172,15 +172,6 @@ impl SphereObstacles {
         }
         any
     }
-
-    /// Whether the ball at `center` (world) of radius `radius` comes within the reach of any
-    /// obstacle, none exempt: when it does not, no sphere inside it does, whatever its kind.
-    pub(super) fn ball_hits(&self, center: [f32; 3], radius: f32) -> bool {
-        let p = center.map(f32x8::splat);
-        let r = f32x8::splat(radius);
-        // Set 0 (neither base link nor contact shape) exempts nothing: every obstacle.
-        self.sets[0].iter().any(|b| hits(b, &p, r))
-    }
 }
 
 impl SphereObstacles {

@@ -55,10 +55,7 @@ impl ArmCheck<'_> {
                 continue;
             }
             let d = if s.pairs.contains(&p) {
-                match s.bound.get(p).copied().flatten() {
-                    Some((t0, d0)) => d0 - v * (t - t0).abs(),
-                    None => 0.0,
-                }
+                s.bound.at(p, t, v).unwrap_or(0.0)
             } else {
                 let ball = match (self.ball(i, s), self.ball(k, s)) {
                     (Some((ci, ri)), Some((ck, rk))) => (ci - ck).norm() - ri - rk,
@@ -96,10 +93,8 @@ impl ArmCheck<'_> {
     /// A bound of at least `enough` may be returned without comparing the link's spheres.
     fn link_bound(&self, l: usize, t: f64, s: &StateScratch, enough: f64) -> f64 {
         let Some(m) = s.links.iter().position(|&x| x == l) else {
-            let ball = self.ball(l, s).map_or(f64::INFINITY, |(c, r)| {
-                let center = [c.x as f32, c.y as f32, c.z as f32];
-                f64::from(self.obstacles.ball_clearance(center, r as f32))
-            });
+            // Computed by the broad phase (`+∞` without a ball).
+            let ball = f64::from(s.ball_gaps.get(l).copied().unwrap_or(f32::INFINITY));
             if ball - CERTIFIED_GAP >= enough {
                 return ball;
             }
@@ -111,10 +106,11 @@ impl ArmCheck<'_> {
         let mut d = f64::from(self.obstacles.link_clearance(&s.spheres, l, reached));
         for (o, _) in reached.iter().enumerate().filter(|(_, r)| **r) {
             let slot = l * self.obstacles.len() + o;
-            d = d.min(match s.scene_bound.get(slot).copied().flatten() {
-                Some((t0, d0)) => d0 - s.link_speed[l] * (t - t0).abs() - margin,
-                None => 0.0,
-            });
+            d = d.min(
+                s.scene_bound
+                    .at(slot, t, s.link_speed[l])
+                    .map_or(0.0, |b| b - margin),
+            );
         }
         d
     }
