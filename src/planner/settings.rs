@@ -27,11 +27,13 @@ pub struct PlannerSettings {
     /// Base placement and the manipulation trajectory.
     pub placement: PlacementSettings,
     /// OMPL settings of the base and arm paths (the budget is per path, capped by what is
-    /// left of the overall budget). The planner's default seeds OMPL (`seed: Some(1)`): with
-    /// the IK's iteration limits and the placement's seeded sampling, the same input then
-    /// gives the same plan, as long as no path search ends on its wall-clock budget (a path
-    /// that is hard to find, or does not exist, ends there; raise `paths.budget` to make that
-    /// rarer). Seeded path searches are serialised process-wide (OMPL has one generator).
+    /// left of the overall budget). The planner's default seeds OMPL (`seed: Some(1)`) and
+    /// ends each path search after [`PLANNER_PATH_ITERATIONS`] iterations
+    /// (`max_iterations`): with the IK's iteration limits and the placement's seeded sampling,
+    /// the same input then gives the same plan whatever the machine's load, as long as no
+    /// search reaches its wall-clock `budget` first (the safety net; on a heavily loaded
+    /// machine raise it). Seeded path searches are serialised process-wide (OMPL has one
+    /// generator).
     /// The planner's default simplifier is [`Simplifier::Full`] (the shortest, smoothest
     /// paths: its paths are executed, and re-checked densely), not the paths' own default.
     pub paths: PathSettings,
@@ -120,6 +122,11 @@ pub struct PlannerSettings {
     pub whole_body: Option<WholeBodySettings>,
 }
 
+/// The planner's default iteration budget per OMPL path search
+/// ([`PathSettings::max_iterations`]): a seeded search ends on this count, at the same point
+/// whatever the machine's load, with the wall-clock `paths.budget` as the safety net.
+pub const PLANNER_PATH_ITERATIONS: u64 = 50_000;
+
 impl Default for PlannerSettings {
     fn default() -> Self {
         PlannerSettings {
@@ -133,6 +140,7 @@ impl Default for PlannerSettings {
             paths: PathSettings {
                 seed: Some(1),
                 simplifier: Simplifier::Full,
+                max_iterations: Some(PLANNER_PATH_ITERATIONS),
                 ..PathSettings::default()
             },
             margin: 0.02,

@@ -231,6 +231,65 @@ fn walled_off_goal_is_an_outcome_within_the_budget() {
 }
 
 #[test]
+fn an_iteration_budget_ends_the_walled_off_search_the_same_way_every_time() {
+    // The walled-off goal of the test above, with the wall clock far beyond what 2000
+    // iterations need (60 s) and an iteration budget: the search ends on the count, an
+    // infeasible outcome naming the budget, the same twice, in well under the wall clock.
+    let planning = Footprint::new(corridor(false), BASE_RESOLUTION / 2.0);
+    let valid = |q: &[f64; 3]| planning.is_free(q[0], q[1]);
+    let settings = PathSettings {
+        max_iterations: Some(2000),
+        ..base_settings(3, Duration::from_secs(60))
+    };
+    let run = || {
+        plan_base(
+            [1.0, 0.8, 0.0],
+            [5.0, 1.0, 0.0],
+            BOUNDS,
+            &valid,
+            &settings,
+            &Termination::none(),
+        )
+        .unwrap()
+    };
+    let t0 = Instant::now();
+    let first = run();
+    assert!(t0.elapsed() < Duration::from_secs(30), "{:?}", t0.elapsed());
+    assert_eq!(
+        first,
+        PathOutcome::Infeasible(PathFailure::IterationBudget { iterations: 2000 })
+    );
+    let reason = PathFailure::IterationBudget { iterations: 2000 }.to_string();
+    assert!(
+        reason.contains("iteration budget (2000 iterations)"),
+        "{reason}"
+    );
+    assert_eq!(first, run());
+    // The corridor with its gap is solved within the same budget, the same path twice.
+    let open = Footprint::new(corridor(true), BASE_RESOLUTION / 2.0);
+    let valid = |q: &[f64; 3]| open.is_free(q[0], q[1]);
+    let solve = || {
+        plan_base(
+            [1.0, 0.8, 0.0],
+            [5.0, 1.0, 1.0],
+            BOUNDS,
+            &valid,
+            &settings,
+            &Termination::none(),
+        )
+        .unwrap()
+    };
+    let solved = solve();
+    assert!(solved.is_solved(), "{solved:?}");
+    assert_eq!(solved, solve());
+    let zero = PathSettings {
+        max_iterations: Some(0),
+        ..PathSettings::default()
+    };
+    assert!(zero.validate().is_err());
+}
+
+#[test]
 fn cancel_flag_set_before_planning_cancels() {
     let planning = Footprint::new(corridor(false), 0.0);
     let valid = |q: &[f64; 3]| planning.is_free(q[0], q[1]);

@@ -266,6 +266,7 @@ KS_API int ks_ompl_plan(const ks_ompl_plan_request* request, ks_ompl_validity_fn
         out->planning_time_s = 0.0;
         out->simplification_time_s = 0.0;
         out->goal_distance = std::numeric_limits<double>::quiet_NaN();
+        out->iterations = 0;
 
         // The budget starts now: space set-up and the planner's setup() count against it.
         // Capped at ~31 years: OMPL converts the budget to integer nanoseconds.
@@ -277,6 +278,16 @@ KS_API int ks_ompl_plan(const ks_ompl_plan_request* request, ks_ompl_validity_fn
             stop = ob::plannerOrTerminationCondition(
                 stop, ob::PlannerTerminationCondition([&cancelled] { return cancelled(); }));
         }
+        // The planners check their condition once per iteration: counting the checks gives an
+        // iteration budget that ends the search at the same point whatever the machine's load.
+        std::uint64_t checks = 0;
+        const std::uint64_t max_checks = r.max_iterations;
+        stop = ob::plannerOrTerminationCondition(
+            ob::PlannerTerminationCondition([&checks, max_checks] {
+                ++checks;
+                return max_checks > 0 && checks > max_checks;
+            }),
+            stop);
 
         ob::StateSpacePtr space = make_space(r);
         auto si = std::make_shared<ob::SpaceInformation>(space);
@@ -323,6 +334,7 @@ KS_API int ks_ompl_plan(const ks_ompl_plan_request* request, ks_ompl_validity_fn
         const ob::PlannerStatus status = planner->solve(stop);
         out->status = static_cast<ob::PlannerStatus::StatusType>(status);
         out->planning_time_s = seconds_since(t0);
+        out->iterations = checks;
         if (!status || !pdef->getSolutionPath()) return;
 
         og::PathGeometric path(*pdef->getSolutionPath()->as<og::PathGeometric>());

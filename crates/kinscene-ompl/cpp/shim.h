@@ -65,6 +65,7 @@ typedef struct ks_ompl_plan_request {
     uint32_t interpolate_to;   // PathGeometric::interpolate(count) when > 0
     int32_t has_cost_threshold;// non-zero: path-length objective with cost_threshold
     double cost_threshold;
+    uint64_t max_iterations;   // > 0: solve() also ends after this many termination checks
 } ks_ompl_plan_request;
 
 typedef struct ks_ompl_plan_result {
@@ -72,6 +73,7 @@ typedef struct ks_ompl_plan_result {
     double planning_time_s;    // setup + solve
     double simplification_time_s;
     double goal_distance;      // distance of the path's last state to the goal; NaN if no path
+    uint64_t iterations;       // termination checks made by solve() (about one per iteration)
 } ks_ompl_plan_result;
 
 // Plans one query. `cancel` may be NULL. `motion` may be NULL: OMPL's discrete motion

@@ -48,6 +48,7 @@ pub(crate) struct PlanRequest {
     pub interpolate_to: u32,
     pub has_cost_threshold: i32,
     pub cost_threshold: f64,
+    pub max_iterations: u64,
 }
 
 /// `ks_ompl_plan_result`.
@@ -58,6 +59,7 @@ pub(crate) struct PlanResult {
     pub planning_time_s: f64,
     pub simplification_time_s: f64,
     pub goal_distance: f64,
+    pub iterations: u64,
 }
 
 /// `ks_ompl_bench_result`.

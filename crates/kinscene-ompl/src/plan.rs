@@ -72,6 +72,12 @@ pub struct PlanOutcome {
     /// Panics caught in the validity checker (each counted as an invalid state) and in the
     /// motion validator, if any (each counted as an invalid motion).
     pub checker_panics: usize,
+    /// The termination checks the planner's `solve` made: about one per iteration (0 when
+    /// the start or goal was rejected before planning).
+    pub iterations: u64,
+    /// Whether [`PlanSettings::max_iterations`](crate::PlanSettings::max_iterations) ended the
+    /// search.
+    pub iteration_budget_spent: bool,
 }
 
 impl PlanOutcome {
@@ -186,6 +192,7 @@ pub fn plan_with_motion<C: StateValidityChecker + ?Sized, M: MotionValidator + ?
         interpolate_to: settings.interpolate_to.map_or(0, |n| n as u32),
         has_cost_threshold: i32::from(settings.cost_threshold.is_some()),
         cost_threshold: settings.cost_threshold.unwrap_or(0.0),
+        max_iterations: settings.max_iterations.unwrap_or(0),
     };
     let context = CheckerContext::new(checker);
     let motion_context = motion.map(MotionContext::new);
@@ -241,5 +248,9 @@ pub fn plan_with_motion<C: StateValidityChecker + ?Sized, M: MotionValidator + ?
         planning_time: Duration::from_secs_f64(result.planning_time_s.max(0.0)),
         simplification_time: Duration::from_secs_f64(result.simplification_time_s.max(0.0)),
         checker_panics: context.panics() + motion_context.as_ref().map_or(0, |m| m.panics()),
+        iterations: result.iterations,
+        iteration_budget_spent: settings
+            .max_iterations
+            .is_some_and(|n| result.iterations > n),
     })
 }

@@ -131,6 +131,11 @@ pub struct PlanSettings {
     /// soon as a path of length ≤ `c` is found (`Some(f64::INFINITY)` stops the optimising
     /// planners at their first solution); this also makes PRM look for such a path.
     pub cost_threshold: Option<f64>,
+    /// Iteration budget of the planner: `solve` also ends after this many checks of its
+    /// termination condition, which OMPL's planners make once per iteration. Unlike the wall
+    /// clock, it ends a seeded search at the same point whatever the machine's load. `None`
+    /// (default): the wall clock and the cancel flag only. At least 1.
+    pub max_iterations: Option<u64>,
 }
 
 impl Default for PlanSettings {
@@ -143,6 +148,7 @@ impl Default for PlanSettings {
             simplifier: Simplifier::Full,
             interpolate_to: None,
             cost_threshold: None,
+            max_iterations: None,
         }
     }
 }
@@ -196,6 +202,13 @@ impl PlanSettings {
                     requirement: ">= 0 (infinity allowed)",
                 });
             }
+        }
+        if self.max_iterations == Some(0) {
+            return Err(Error::InvalidSetting {
+                name: "max_iterations",
+                value: 0.0,
+                requirement: ">= 1",
+            });
         }
         Ok(())
     }

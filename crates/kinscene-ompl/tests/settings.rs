@@ -239,3 +239,46 @@ fn log_level_can_be_changed() {
     set_log_level(LogLevel::Error).unwrap();
     set_log_level(LogLevel::None).unwrap();
 }
+
+#[test]
+fn an_iteration_budget_ends_the_search_at_a_count_not_a_time() {
+    // A disc in the way and tree steps of 0.01 (range): RRT needs at least
+    // ⌈(1.13 − 0.3) / 0.01⌉ = 83 extensions to reach the goal, so a budget of 20 iterations
+    // cannot find it, however long the wall clock allows (60 s here). Each planner checks its
+    // condition once per iteration: the count stops at budget + 1, the check that ended it.
+    let _serial = serial();
+    let settings = PlanSettings {
+        range: Some(0.01),
+        max_iterations: Some(20),
+        ..PlanSettings::with_planner(Planner::Rrt)
+    };
+    for _ in 0..2 {
+        set_seed(7).unwrap();
+        let outcome = run(&settings, Duration::from_secs(60));
+        assert_ne!(outcome.status, PlanStatus::ExactSolution);
+        assert!(outcome.iteration_budget_spent);
+        assert_eq!(outcome.iterations, 21);
+        assert!(outcome.planning_time < Duration::from_secs(30));
+    }
+    // A generous budget finds the path and says it was not spent.
+    let roomy = PlanSettings {
+        max_iterations: Some(1_000_000),
+        ..PlanSettings::default()
+    };
+    set_seed(7).unwrap();
+    let outcome = run(&roomy, Duration::from_secs(10));
+    assert_eq!(outcome.status, PlanStatus::ExactSolution);
+    assert!(!outcome.iteration_budget_spent);
+    assert!(outcome.iterations >= 1 && outcome.iterations < 1_000_000);
+    // Zero iterations is a setting error.
+    let zero = PlanSettings {
+        max_iterations: Some(0),
+        ..PlanSettings::default()
+    };
+    assert!(
+        zero.validate()
+            .unwrap_err()
+            .to_string()
+            .contains("max_iterations")
+    );
+}

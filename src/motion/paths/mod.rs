@@ -95,6 +95,12 @@ pub struct PathSettings {
     /// ([`PlannerSettings`](crate::planner::PlannerSettings)), as its paths are executed and
     /// re-checked densely.
     pub simplifier: Simplifier,
+    /// Iteration budget of the planner (OMPL's planners check their termination condition
+    /// once per iteration; [`kinscene_ompl::PlanSettings::max_iterations`]). A seeded search
+    /// it ends stops at the same point whatever the machine's load, and the outcome is
+    /// [`PathFailure::IterationBudget`]; `budget` stays the wall-clock safety net. `None`
+    /// (default): the wall clock only. At least 1.
+    pub max_iterations: Option<u64>,
     /// Seed for OMPL's random generator: with a seed, the same call gives the same path
     /// (given a deterministic validity closure and a planner that stops before its budget).
     /// Seeded calls are serialised process-wide and no other [`plan_base`]/[`plan_arm`] call
@@ -112,13 +118,15 @@ impl Default for PathSettings {
             range: None,
             simplify: true,
             simplifier: Simplifier::Shortcut,
+            max_iterations: None,
             seed: None,
         }
     }
 }
 
 impl PathSettings {
-    /// Checks the budget (positive), the resolution and the range (positive, finite).
+    /// Checks the budget (positive), the resolution and the range (positive, finite) and the
+    /// iteration budget (at least 1).
     ///
     /// # Errors
     /// [`PathError::InvalidSetting`].
@@ -133,6 +141,9 @@ impl PathSettings {
         }
         if let Some(range) = self.range.filter(|r| !(r.is_finite() && *r > 0.0)) {
             return Err(InvalidSetting::new("range", range, "finite and > 0").into());
+        }
+        if self.max_iterations == Some(0) {
+            return Err(InvalidSetting::new("max_iterations", 0.0, ">= 1").into());
         }
         Ok(())
     }
@@ -160,6 +171,12 @@ pub enum PathFailure {
         /// Panics caught in the validity closure, each counted as an invalid state.
         checker_panics: usize,
     },
+    /// The planner's iteration budget ([`PathSettings::max_iterations`]) ran out before it
+    /// found a path.
+    IterationBudget {
+        /// The budget.
+        iterations: u64,
+    },
     /// OMPL gave up, crashed or reported an exact solution without states.
     Planner {
         /// OMPL's status.
@@ -186,6 +203,10 @@ impl std::fmt::Display for PathFailure {
                 )?;
                 panics(f, *checker_panics)
             }
+            PathFailure::IterationBudget { iterations } => write!(
+                f,
+                "no path within the planner's iteration budget ({iterations} iterations)"
+            ),
             PathFailure::Planner {
                 status,
                 checker_panics,

@@ -261,6 +261,7 @@ fn run<C: StateValidityChecker>(
         resolution_fraction: fraction,
         simplify: settings.simplify,
         simplifier: settings.simplifier,
+        max_iterations: settings.max_iterations,
         ..PlanSettings::default()
     };
     // The shim is loaded before the budget starts (the first call's load is not planning).
@@ -292,16 +293,23 @@ fn run<C: StateValidityChecker>(
     Ok(map_outcome(
         outcome,
         std::time::Instant::now() >= deadline || ours.should_stop(),
+        settings.max_iterations,
     ))
 }
 
 /// OMPL's status as a [`PathOutcome`]; approximate solutions are not paths. OMPL's planners
 /// return an approximate solution when their termination condition stops them, so one that
-/// comes back after the budget ran out (`expired`) is a [`PathOutcome::Timeout`].
-fn map_outcome(outcome: PlanOutcome, expired: bool) -> PathOutcome {
+/// comes back after the budget ran out (`expired`) is a [`PathOutcome::Timeout`], and one that
+/// the iteration budget ended is [`PathFailure::IterationBudget`].
+fn map_outcome(outcome: PlanOutcome, expired: bool, max_iterations: Option<u64>) -> PathOutcome {
     let failure = match outcome.status {
         PlanStatus::ExactSolution if !outcome.path.is_empty() => {
             return PathOutcome::Solved(outcome.path);
+        }
+        PlanStatus::Timeout | PlanStatus::ApproximateSolution if outcome.iteration_budget_spent => {
+            PathFailure::IterationBudget {
+                iterations: max_iterations.unwrap_or(outcome.iterations),
+            }
         }
         PlanStatus::Timeout => return PathOutcome::Timeout(()),
         PlanStatus::ApproximateSolution if expired => return PathOutcome::Timeout(()),
