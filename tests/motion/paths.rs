@@ -235,16 +235,17 @@ fn an_iteration_budget_ends_the_walled_off_search_the_same_way_every_time() {
     // The walled-off goal of the test above, with the wall clock far beyond what 2000
     // iterations need (60 s) and an iteration budget: the search ends on the count, an
     // infeasible outcome naming the budget, the same twice, in well under the wall clock.
-    let planning = Footprint::new(corridor(false), BASE_RESOLUTION / 2.0);
-    let valid = |q: &[f64; 3]| planning.is_free(q[0], q[1]);
     let settings = PathSettings {
         max_iterations: Some(2000),
         ..base_settings(3, Duration::from_secs(60))
     };
-    let run = || {
+    // From (1.0, 0.8) across the corridor, with or without the wall's gap.
+    let run = |gap: bool, goal: [f64; 3]| {
+        let planning = Footprint::new(corridor(gap), BASE_RESOLUTION / 2.0);
+        let valid = |q: &[f64; 3]| planning.is_free(q[0], q[1]);
         plan_base(
             [1.0, 0.8, 0.0],
-            [5.0, 1.0, 0.0],
+            goal,
             BOUNDS,
             &valid,
             &settings,
@@ -253,7 +254,7 @@ fn an_iteration_budget_ends_the_walled_off_search_the_same_way_every_time() {
         .unwrap()
     };
     let t0 = Instant::now();
-    let first = run();
+    let first = run(false, [5.0, 1.0, 0.0]);
     assert!(t0.elapsed() < Duration::from_secs(30), "{:?}", t0.elapsed());
     assert_eq!(
         first,
@@ -264,24 +265,11 @@ fn an_iteration_budget_ends_the_walled_off_search_the_same_way_every_time() {
         reason.contains("iteration budget (2000 iterations)"),
         "{reason}"
     );
-    assert_eq!(first, run());
+    assert_eq!(first, run(false, [5.0, 1.0, 0.0]));
     // The corridor with its gap is solved within the same budget, the same path twice.
-    let open = Footprint::new(corridor(true), BASE_RESOLUTION / 2.0);
-    let valid = |q: &[f64; 3]| open.is_free(q[0], q[1]);
-    let solve = || {
-        plan_base(
-            [1.0, 0.8, 0.0],
-            [5.0, 1.0, 1.0],
-            BOUNDS,
-            &valid,
-            &settings,
-            &Termination::none(),
-        )
-        .unwrap()
-    };
-    let solved = solve();
+    let solved = run(true, [5.0, 1.0, 1.0]);
     assert!(solved.is_solved(), "{solved:?}");
-    assert_eq!(solved, solve());
+    assert_eq!(solved, run(true, [5.0, 1.0, 1.0]));
     let zero = PathSettings {
         max_iterations: Some(0),
         ..PathSettings::default()
