@@ -96,7 +96,7 @@ pub use outcome::{
     StopPoint,
 };
 pub use reach::arm_reach;
-pub use settings::PlannerSettings;
+pub use settings::{PLANNER_PATH_ITERATIONS, PlannerSettings};
 pub use step::{
     Check, Compared, Contact, FailedSegment, PlacementShortfall, SegmentMiss, SegmentTry,
     SplitMiss, StepFailure, StepMode, StepMotion, StepPath, StepReason, StepTiming,
