@@ -86,7 +86,9 @@ impl Run<'_> {
                     )
                 }) {
                     entry.notes.push(format!(
-                        "attempt {}: navigation refused the base goal ({:.2}, {:.2}); the next                          attempt starts from ({:.2}, {:.2}), at least {} m from every refused                          goal",
+                        "attempt {}: navigation refused the base goal ({:.2}, {:.2}); the next \
+                         attempt starts from ({:.2}, {:.2}), at least {} m from every refused \
+                         goal",
                         k + 1,
                         at.x,
                         at.y,
