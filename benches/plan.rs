@@ -2,7 +2,7 @@
 //! (task search plus motion refinement) per goal, and the executed time of the same plan timed
 //! with corners blended (the default, [`time_optimal`]) and with a stop at every corner
 //! (`blend: None`, [`time_parameterise`]), and without the time shortcuts of the free arm
-//! paths (`arm_time_shortcuts: 0`).
+//! paths (`arm_time_shortcuts: 0`, `arm_random_shortcuts: 0`).
 //!
 //! `cargo bench --bench plan` (optionally `-- RUNS`, default 3; `-- RUNS GOAL_NAME…` for some
 //! goals only; `fixed-base` among the arguments sets [`PlannerSettings::whole_body`] to `None` and
@@ -13,7 +13,7 @@
 //! (`examples/scenes/<scene>.urdf`: the kitchen, the appliances, the counter, the galley)
 //! `RUNS` times with
 //! [`PlannerSettings::default`] (seeded: every run gives the same plan, so the runs measure the
-//! time only), once more with `blend: None` and once with `arm_time_shortcuts: 0`. The table
+//! time only), once more with `blend: None` and once without the time shortcuts. The table
 //! gives the outcome, the median and largest plan time (wall clock, 2 cores shared with
 //! nothing else in this process), the steps, the executed time as planned, without blending
 //! and without shortcuts, each with its ratio to the default's, and the target of issue 19:
@@ -171,6 +171,7 @@ fn main() {
         let (_, _, _, exec_stops) = plan_once(&scene, &problem, stops);
         let straight = PlannerSettings {
             arm_time_shortcuts: 0,
+            arm_random_shortcuts: 0,
             ..base.clone()
         };
         let (_, _, _, exec_straight) = plan_once(&scene, &problem, straight);

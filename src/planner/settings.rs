@@ -58,6 +58,13 @@ pub struct PlannerSettings {
     /// quicker and passes the dense re-check (`arm_check_resolution`, the same check). 0: off.
     /// Default 4.
     pub arm_time_shortcuts: usize,
+    /// Random time shortcuts of the free arm paths after the greedy ones: this many times,
+    /// two points along the path are drawn (seeded by `paths.seed`, reproducible) and the
+    /// path between them replaced by the straight motion when that is quicker and passes the
+    /// same dense re-check. They cut corners the greedy pass's points miss, so the arm's path
+    /// to and from the stow approaches the quickest one around the same obstacles. 0: off.
+    /// Default 100.
+    pub arm_random_shortcuts: usize,
     /// Spacing of the dense re-check of base paths (m, with yaw scaled by the footprint
     /// radius), default 0.02.
     pub base_check_resolution: f64,
@@ -147,6 +154,7 @@ impl Default for PlannerSettings {
             stow: None,
             arm_check_resolution: 0.01,
             arm_time_shortcuts: 4,
+            arm_random_shortcuts: 100,
             base_check_resolution: 0.02,
             blend: Some(BlendSettings::default()),
             manipulation_blend: 0.002,

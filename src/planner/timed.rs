@@ -1,14 +1,17 @@
 //! Timing a step's phases: time-optimal with blended corners where the blended trajectory
-//! passes the phase's checks, else stopping at the corners, exactly on the checked path.
+//! passes the phase's checks, stopping at the corners where it does not.
 
 use super::PlannerError;
-use crate::motion::timing::{BlendSettings, TimedPath, time_optimal, time_parameterise};
+use crate::motion::timing::{BlendSettings, TimedPath, time_optimal_stopping, time_parameterise};
 
 /// `path` timed under `limits` (velocity, acceleration per coordinate) without stops at its
-/// corners ([`time_optimal`] with `blend`) when the blended trajectory passes `valid(path, t,
+/// corners ([`time_optimal`](crate::motion::timing::time_optimal) with `blend`) where the blended trajectory passes `valid(path, t,
 /// q)` at samples no farther apart than `resolution` in any coordinate (by the velocity
-/// limits); else with stops ([`time_parameterise`]), exactly on the path the planner checked.
-/// `blend = None` always stops.
+/// limits). A corner whose blend fails the check becomes a stop (the corner waypoint nearest
+/// the failing sample, [`time_optimal_stopping`]) and the trajectory is timed and checked
+/// again, so one tight corner does not stop the others; when every corner would stop, the
+/// result is [`time_parameterise`]'s, exactly on the path the planner checked. `blend = None`
+/// always stops.
 pub(super) fn timed(
     path: &[Vec<f64>],
     (vmax, amax): (&[f64], &[f64]),
@@ -21,19 +24,31 @@ pub(super) fn timed(
     let Some(blend) = blend else {
         return Ok(exact()?);
     };
-    let blended = time_optimal(path, vmax, amax, wrap_yaw, blend)?;
-    if blended.is_exact() {
-        return Ok(blended);
-    }
     let speed = vmax.iter().copied().fold(0.0, f64::max);
-    let n = ((blended.duration * speed / resolution).ceil() as usize).max(1);
-    for i in 0..=n {
-        let t = blended.duration * i as f64 / n as f64;
-        if !valid(&blended, t, &blended.sample(t)) {
-            return Ok(exact()?);
+    let corners = path.len().saturating_sub(2);
+    let mut stops: Vec<usize> = Vec::new();
+    while stops.len() < corners {
+        let blended = time_optimal_stopping(path, vmax, amax, wrap_yaw, blend, &stops)?;
+        if blended.is_exact() {
+            return Ok(blended);
         }
+        let n = ((blended.duration * speed / resolution).ceil() as usize).max(1);
+        let failed = (0..=n)
+            .map(|i| blended.duration * i as f64 / n as f64)
+            .find(|&t| !valid(&blended, t, &blended.sample(t)));
+        let Some(t) = failed else {
+            return Ok(blended);
+        };
+        // The blended corner nearest the failure in time.
+        let Some(corner) = (1..=corners).filter(|k| !stops.contains(k)).min_by(|a, b| {
+            let d = |k: &usize| (blended.times[*k] - t).abs();
+            d(a).total_cmp(&d(b))
+        }) else {
+            break;
+        };
+        stops.push(corner);
     }
-    Ok(blended)
+    Ok(exact()?)
 }
 
 /// The moved joint's value where the arm is at `q` on the manipulation (waypoint `k` at
@@ -58,4 +73,72 @@ pub(super) fn value_at(waypoints: &[Vec<f64>], q: &[f64], from: f64, to: f64) ->
         }
     }
     from + (to - from) * best.1 / k as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A zigzag with two corners, each 90°, at 1 per second and second² per coordinate; the
+    /// check rejects every state more than 1e-6 off the polyline near the first corner
+    /// (1, 0) only. The first corner becomes a stop (speed 0 there), the second stays blended
+    /// (it keeps speed), and the result is quicker than stopping at both, which the old rule
+    /// (one failed blend stops the whole phase) returned.
+    #[test]
+    fn a_failed_blend_stops_at_its_corner_only() {
+        let path = vec![
+            vec![0.0, 0.0],
+            vec![1.0, 0.0],
+            vec![1.0, 1.0],
+            vec![2.0, 1.0],
+        ];
+        let limits = ([1.0, 1.0], [1.0, 1.0]);
+        let blend = BlendSettings {
+            max_deviation: 0.05,
+            ..BlendSettings::default()
+        };
+        // Off the polyline: neither on y = 0 (x ≤ 1), x = 1 (0 ≤ y ≤ 1) nor y = 1 (x ≥ 1).
+        let on_path = |q: &[f64]| {
+            (q[1].abs() < 1e-6 && q[0] <= 1.0 + 1e-6)
+                || ((q[0] - 1.0).abs() < 1e-6 && (-1e-6..=1.0 + 1e-6).contains(&q[1]))
+                || ((q[1] - 1.0).abs() < 1e-6 && q[0] >= 1.0 - 1e-6)
+        };
+        let near_first = |q: &[f64]| (q[0] - 1.0).hypot(q[1]) < 0.3;
+        let valid = |_: &TimedPath, _: f64, q: &[f64]| on_path(q) || !near_first(q);
+        let out = timed(
+            &path,
+            (&limits.0, &limits.1),
+            None,
+            Some(&blend),
+            0.01,
+            &valid,
+        )
+        .unwrap();
+        let speed = |k: usize| {
+            let v = out.velocity(out.times[k]);
+            v[0].hypot(v[1])
+        };
+        assert!(speed(1) < 1e-6, "{}", speed(1));
+        assert!(speed(2) > 0.3, "{}", speed(2));
+        let stopping = time_parameterise(&path, &limits.0, &limits.1, None).unwrap();
+        assert!(out.duration < stopping.duration - 0.1);
+        // Every sample passes the check.
+        let n = 2000;
+        assert!((0..=n).all(|i| {
+            let t = out.duration * i as f64 / n as f64;
+            valid(&out, t, &out.sample(t))
+        }));
+        // A check that rejects both blends gives the exact profile.
+        let strict = |_: &TimedPath, _: f64, q: &[f64]| on_path(q);
+        let out = timed(
+            &path,
+            (&limits.0, &limits.1),
+            None,
+            Some(&blend),
+            0.01,
+            &strict,
+        )
+        .unwrap();
+        assert!(out.is_exact());
+    }
 }

@@ -16,7 +16,7 @@ use kinscene::kinematics::pinocchio as pin;
 use kinscene::kinematics::robot::{Exempt, RobotCollision, RobotConfig, RobotModel};
 use kinscene::motion::placement::{
     GraspRotation, JointMotion, PlacementData, PlacementError, PlacementMethod, PlacementObjective,
-    PlacementOutcome, PlacementProblem, PlacementSettings, place_and_plan,
+    PlacementOutcome, PlacementProblem, PlacementSettings, TieBreak, place_and_plan,
 };
 use kinscene::scene::motion::grasp_trajectory;
 use kinscene::scene::urdf::{self, ImportOptions};
@@ -321,8 +321,8 @@ fn sampled_placement_reaches_a_drawer_and_a_door() {
     }
 }
 
-/// Standing where a first placement put the base, with the tie-break weighing base distance
-/// heavily (100 per metre, against arm paths of a few radians), the second placement keeps
+/// Standing where a first placement put the base, with the path-length tie-break weighing
+/// base distance heavily (100 per metre, against arm paths of a few radians), the second placement keeps
 /// the base exactly there: the current pose is a candidate, reaches every waypoint, and costs
 /// no distance. Without the candidate the poses drawn (from another seed) never land exactly
 /// on it. Both plans pass the independent re-check.
@@ -335,6 +335,7 @@ fn the_current_base_pose_is_a_candidate() {
     let from = |current_pose: bool| {
         let mut settings = PlacementSettings::default();
         settings.sampling.current_pose = current_pose;
+        settings.sampling.tie_break = TieBreak::PathLength;
         settings.sampling.distance_weight = 100.0;
         // Other draws than the first placement's, of which `first.base` was one.
         settings.sampling.seed += 1;
@@ -600,4 +601,80 @@ fn the_longest_prefix_objective_goes_at_least_as_far_as_the_paper_s() {
     assert!(prefix.reached_prefix() > paper.reached_prefix());
     // IK along the winner stopped at its first miss: nothing after it counts as reached.
     assert!(prefix.reached[prefix.reached_prefix()..].iter().all(|r| !r));
+}
+
+/// The execution-time tie-break ranks the same draws as the path-length one (the draws do not
+/// depend on the ranking) and keeps the quickest complete plan by its estimate, so its plan's
+/// estimate is never above the path-length winner's. The estimate is recomputed here from
+/// its documented definition (rest-to-rest straight lines under the robot's limits, the
+/// slowest coordinate deciding: the base drive, stow → first waypoint, along the waypoints,
+/// last waypoint → stow), independently of the crate's code. Both plans pass the re-check.
+#[test]
+fn the_execution_time_tie_break_keeps_the_quickest_plan() {
+    let (joint, handle, to) = ("drawer_top_slide", "drawer_top_handle", 0.3);
+    let robot = &fixture().robot;
+    let rest = |d: f64, v: f64, a: f64| {
+        if d <= 0.0 {
+            0.0
+        } else if d * a <= v * v {
+            2.0 * (d / a).sqrt()
+        } else {
+            d / v + v / a
+        }
+    };
+    // One straight line: s from 0 to 1 under the tightest v/d and a/d.
+    let line = |moves: &[(f64, f64, f64)]| {
+        let v = moves
+            .iter()
+            .filter(|m| m.0 > 0.0)
+            .map(|m| m.1 / m.0)
+            .fold(f64::INFINITY, f64::min);
+        let a = moves
+            .iter()
+            .filter(|m| m.0 > 0.0)
+            .map(|m| m.2 / m.0)
+            .fold(f64::INFINITY, f64::min);
+        if v.is_finite() { rest(1.0, v, a) } else { 0.0 }
+    };
+    let arm = |p: &nalgebra::DVector<f64>, q: &nalgebra::DVector<f64>| {
+        let moves: Vec<_> = robot
+            .arm_joints()
+            .iter()
+            .enumerate()
+            .map(|(i, j)| ((q[i] - p[i]).abs(), j.max_velocity, j.max_acceleration))
+            .collect();
+        line(&moves)
+    };
+    let estimate = |out: &PlacementOutcome| {
+        let b = robot.base();
+        let yaw = (out.base[2] - ROBOT_FROM[2] + std::f64::consts::PI)
+            .rem_euclid(2.0 * std::f64::consts::PI)
+            - std::f64::consts::PI;
+        let distance = (out.base[0] - ROBOT_FROM[0]).hypot(out.base[1] - ROBOT_FROM[1]);
+        let drive = line(&[
+            (
+                distance,
+                b.max_velocity[0].min(b.max_velocity[1]),
+                b.max_acceleration[0].min(b.max_acceleration[1]),
+            ),
+            (yaw.abs(), b.max_velocity[2], b.max_acceleration[2]),
+        ]);
+        let stow = robot.neutral();
+        let along: f64 = out.arm.windows(2).map(|w| arm(&w[0], &w[1])).sum();
+        drive + arm(&stow, &out.arm[0]) + along + arm(out.arm.last().unwrap(), &stow)
+    };
+    let ranked = |tie_break: TieBreak| {
+        let mut settings = PlacementSettings::default();
+        settings.sampling.tie_break = tie_break;
+        plan_and_recheck_from(joint, handle, to, ROBOT_FROM, &settings)
+    };
+    let quick = ranked(TieBreak::ExecutionTime);
+    let short = ranked(TieBreak::PathLength);
+    assert!(quick.is_complete() && short.is_complete());
+    assert!(
+        estimate(&quick) <= estimate(&short) + 1e-9,
+        "{} > {}",
+        estimate(&quick),
+        estimate(&short)
+    );
 }

@@ -118,9 +118,10 @@ fn differential_drive_base_limits_are_checked() {
     ));
 }
 
-/// The Gen3 of the drawer test in `mod.rs` as a differential-drive base, starting 0.6 m to
-/// the side of the drawer, facing the counter (a holonomic base would slide sideways to its
-/// placement).
+/// The Gen3 of the drawer test in `mod.rs` as a differential-drive base, starting 1.5 m to
+/// the side of the drawer, facing the counter: farther to the side than the arm reaches
+/// (about 0.9 m), so every placement is off the line ahead and a holonomic base would slide
+/// sideways to it.
 #[test]
 fn a_differential_drive_plan_never_moves_sideways_and_rechecks() {
     let robot = RobotModel::kinova_gen3_mobile();
@@ -130,7 +131,7 @@ fn a_differential_drive_plan_never_moves_sideways_and_rechecks() {
     let model = super::counter_with_drawer(0.75);
     let problem = super::problem(
         &model,
-        "[goal]\ndrawer_slide = { min = 0.25 }\n[robot]\nbase = [-1.1, 0.6, 0.0]\n",
+        "[goal]\ndrawer_slide = { min = 0.25 }\n[robot]\nbase = [-1.1, 1.5, 0.0]\n",
     );
     let plan = solve(&planner, &model, &problem);
     let (driven, turned) = assert_no_sideways(planner.robot(), &plan);

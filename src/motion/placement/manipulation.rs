@@ -67,10 +67,10 @@ pub(crate) struct Prepared<'a> {
     pub termination: Termination<'a>,
     pub lower: DVector<f64>,
     pub upper: DVector<f64>,
-    /// For a grasp turned about a bar ([`JointMotion::grasp_angle`] non-zero): the front
-    /// shapes of the handle's part, which the contact shapes must not touch either (the
-    /// stand-off along the turned direction does not keep fingers beside the axis out of the
-    /// front). Empty for the grasp along the normal, whose stand-off does.
+    /// The front shapes of the handle's part (all but the handle's own), which the contact
+    /// shapes must not touch either: the stand-off keeps the fingertips off the front at the
+    /// waypoints of a grasp along the normal, but not between them (the tool tilts a little
+    /// along a joint-space segment) nor beside the axis of a grasp turned about a bar.
     pub front: Vec<usize>,
 }
 
@@ -103,11 +103,7 @@ impl<'a> Prepared<'a> {
                 got: problem.ik.model().nq(),
             });
         }
-        let front = if motion.grasp_angle == 0.0 {
-            Vec::new()
-        } else {
-            handle_front_shapes(model, motion.handle)?
-        };
+        let front = handle_front_shapes(model, motion.handle)?;
         // A turned grasp keeps its fingers along the bar (see `JointMotion::turned_about_bar`).
         let rotation = if motion.grasp_angle == 0.0 {
             rotation
@@ -132,7 +128,7 @@ impl<'a> Prepared<'a> {
     /// collision; any link within `margin` of the scene under the grasp contact rule (only the
     /// gripper's contact shapes may touch the moving parts, see [`Exempt::Grasp`]); the base
     /// links within `margin` of the moving parts (which the base must not be in the way of);
-    /// for a turned grasp, a contact shape touching the handle's part's front.
+    /// a contact shape touching the handle's part's front.
     pub(crate) fn obstacle(
         &self,
         base: [f64; 3],
@@ -150,10 +146,9 @@ impl<'a> Prepared<'a> {
             return Ok(Some(o));
         }
         let part = self.motion.handle.part();
-        if !self.front.is_empty()
-            && let Some(link) =
-                p.collision
-                    .contact_touches(&poses, p.model, data, part, &self.front)
+        if let Some(link) = p
+            .collision
+            .contact_touches(&poses, p.model, data, part, &self.front)
         {
             return Ok(Some(Obstacle::scene(
                 p.robot,
@@ -400,11 +395,46 @@ impl<'a> Prepared<'a> {
                 }
             };
             if result.1.is_none() {
-                return Ok(result);
+                let q = match a.continuing {
+                    Some(_) => result.0,
+                    None => self.roll_towards_start(a, result.0, settings, scratch)?,
+                };
+                return Ok((q, None));
             }
             first.get_or_insert(result);
         }
         Ok(first.expect("at least one attempt"))
+    }
+
+    /// At the first waypoint, `q` (reached) with its last joint turned to its value in
+    /// `a.start` (clamped into its limits) when that configuration is reached too: on the
+    /// usual wrist the last joint turns the tool about its approach axis, which a
+    /// [`GraspRotation::Free`](super::GraspRotation::Free) grasp leaves free, so the arm need
+    /// not turn it on its way from the stow. Every check of the waypoint decides (pose,
+    /// limits, collisions); where the last joint moves the tool otherwise, the check fails and
+    /// `q` is kept.
+    fn roll_towards_start(
+        &self,
+        a: &Attempt<'_>,
+        q: DVector<f64>,
+        settings: &ManipulationSettings,
+        scratch: &mut SceneData,
+    ) -> Result<DVector<f64>, PlacementError> {
+        let Some(last) = q.len().checked_sub(1) else {
+            return Ok(q);
+        };
+        let want = a.start[last].clamp(self.lower[last], self.upper[last]);
+        if a.k != 0 || (q[last] - want).abs() < 1e-9 {
+            return Ok(q);
+        }
+        let mut turned = q.clone();
+        turned[last] = want;
+        Ok(
+            match self.check_waypoint(a.base, &turned, a.k, None, settings, scratch)? {
+                None => turned,
+                Some(_) => q,
+            },
+        )
     }
 
     /// `seed` with its last joint turned by `2π·i/n`, clamped into its limits.

@@ -26,8 +26,9 @@
 //!      front of the handle trajectory, facing it with a yaw jitter), those outside the
 //!      scene's navigation grid or whose base links touch the scene (current state, the moving part at every waypoint) rejected, a
 //!      manipulation plan from each of the others; the
-//!      plan with the most waypoints reached wins (ties: shortest joint-space path plus a
-//!      weighted distance from the robot's current position). With
+//!      plan with the most waypoints reached wins (ties: the lowest estimated execution time,
+//!      [`TieBreak::ExecutionTime`], of the base drive and the arm's motions from the stow
+//!      and back; or [`TieBreak::PathLength`]). With
 //!      [`PlacementObjective::LongestPrefix`] the longest run of reached waypoints from the
 //!      first wins instead (same ties), which tells how far one base pose carries the motion.
 //!    - [`Optimised`](PlacementMethod::Optimised): the best sample, then one nonlinear program
@@ -73,6 +74,7 @@
 //! reported success trustworthy.
 
 mod error;
+mod estimate;
 mod grasp;
 mod manipulation;
 mod motion;
@@ -96,7 +98,7 @@ pub use plan::{ManipulationPlan, Obstacle, WaypointFailure};
 pub use reach::{ArmReach, arm_reach};
 pub use settings::{
     DEFAULT_BAR_TURN, MAX_STEPS, ManipulationSettings, OptimisationSettings, PlacementMethod,
-    PlacementObjective, PlacementSettings, SamplingSettings,
+    PlacementObjective, PlacementSettings, SamplingSettings, TieBreak,
 };
 pub use whole_body::{
     WholeBodyAttempt, WholeBodyFailure, WholeBodyOutcome, WholeBodyPlan, WholeBodySettings,

@@ -8,9 +8,10 @@ use nalgebra::{DVector, Point2, Vector2};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+use super::estimate::execution_time;
 use super::manipulation::{Cutoff, Prepared};
 use super::plan::ManipulationPlan;
-use super::{ManipulationSettings, PlacementError, PlacementObjective, SamplingSettings};
+use super::{ManipulationSettings, PlacementError, PlacementObjective, SamplingSettings, TieBreak};
 use crate::kinematics::robot::{Exempt, RobotConfig};
 use crate::scene::PartId;
 use crate::scene::collision::Body;
@@ -87,8 +88,9 @@ pub(crate) fn region(
 /// manipulation from the others until `settings.samples` were evaluated or `max_draws` drawn
 /// (the robot's current pose `robot_from` first, when `current_pose` is set, outside that
 /// count); keeps the plan with the most waypoints reached (or, for
-/// [`PlacementObjective::LongestPrefix`], the longest reached prefix), then the lowest
-/// `path_length + distance_weight · ‖base − robot_from‖`, then the earliest; the
+/// [`PlacementObjective::LongestPrefix`], the longest reached prefix), then the lowest cost of
+/// [`SamplingSettings::tie_break`] (the arm starting from `stow`, or `seed` without one),
+/// then the earliest; the
 /// [`SamplingSettings::keep`] best are kept in that order.
 pub(crate) fn sample(
     prepared: &Prepared<'_>,
@@ -104,9 +106,15 @@ pub(crate) fn sample(
     let mut rng = ChaCha8Rng::seed_from_u64(sampling.seed);
     let towards = centroid - Point2::from(here);
     let fallback = [robot_from[0], robot_from[1], towards.y.atan2(towards.x)];
-    let cost = |plan: &ManipulationPlan| {
-        let d = (Vector2::new(plan.base[0], plan.base[1]) - Vector2::from(here)).norm();
-        plan.path_length() + sampling.distance_weight * d
+    let arm_start = stow.unwrap_or(seed);
+    let cost = |plan: &ManipulationPlan| match sampling.tie_break {
+        TieBreak::ExecutionTime => {
+            execution_time(prepared.problem.robot, robot_from, arm_start, plan)
+        }
+        TieBreak::PathLength => {
+            let d = (Vector2::new(plan.base[0], plan.base[1]) - Vector2::from(here)).norm();
+            plan.path_length() + sampling.distance_weight * d
+        }
     };
     let keep = sampling.keep.max(1);
     let mut best: Vec<(usize, f64, ManipulationPlan)> = Vec::with_capacity(keep + 1);

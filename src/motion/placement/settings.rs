@@ -37,6 +37,23 @@ pub enum PlacementObjective {
     LongestPrefix,
 }
 
+/// How samples that reach as many waypoints (by the [`PlacementObjective`]) are ranked.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum TieBreak {
+    /// The lower estimated execution time wins: the base from where the robot stands to the
+    /// sample, the arm from its stowed configuration to the first waypoint, along the
+    /// waypoints and back, each timed as straight lines under the robot's velocity and
+    /// acceleration limits (the slowest joint or base axis deciding). A base turned so that
+    /// the arm's first joint has less far to swing, or a grasp closer to the stow, wins over
+    /// a shorter arm path that needs a long swing first.
+    #[default]
+    ExecutionTime,
+    /// The lower `path length (rad) + distance_weight · ‖base − robot_from‖ (m)` wins
+    /// ([`SamplingSettings::distance_weight`]): the arm's joint-space path along the
+    /// waypoints and the base's distance, as the crate ranked before execution times.
+    PathLength,
+}
+
 /// Settings of the manipulation plan at one base pose (IK along the trajectory and its checks).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ManipulationSettings {
@@ -140,7 +157,10 @@ pub struct SamplingSettings {
     /// Clearance (m) the base links (and the stowed arm) must keep from the scene at the
     /// current state for a sample to be evaluated at all, >= 0. Default 0.02.
     pub base_margin: f64,
-    /// Tie-break between samples that reach the same number of waypoints: the lower
+    /// How samples that reach as many waypoints are ranked. Default
+    /// [`TieBreak::ExecutionTime`].
+    pub tie_break: TieBreak,
+    /// The base distance's weight in [`TieBreak::PathLength`]: the lower
     /// `path length (rad) + distance_weight · ‖base − robot_from‖ (m)` wins, >= 0. Default 0.5.
     pub distance_weight: f64,
     /// Evaluate the robot's current base pose (`robot_from`, its yaw included) before the
@@ -170,6 +190,7 @@ impl Default for SamplingSettings {
             bearing_spread: std::f64::consts::PI,
             yaw_jitter: 0.6,
             base_margin: 0.02,
+            tie_break: TieBreak::ExecutionTime,
             distance_weight: 0.5,
             current_pose: true,
             objective: PlacementObjective::MostReached,

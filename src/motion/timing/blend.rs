@@ -189,9 +189,15 @@ enum Corner {
 }
 
 /// Builds the blended path of `path` (validated: non-empty, equal finite waypoints) with
-/// corners cut by at most `max_deviation` (> 0). With `wrap_yaw = Some(i)`, coordinate `i` is
+/// corners cut by at most `max_deviation` (> 0), except at the waypoints of `stop_at`
+/// (indices into `path`), which stay sharp stops. With `wrap_yaw = Some(i)`, coordinate `i` is
 /// unwrapped first (each step the short way).
-pub(super) fn build(path: &[Vec<f64>], wrap_yaw: Option<usize>, max_deviation: f64) -> Geometry {
+pub(super) fn build(
+    path: &[Vec<f64>],
+    wrap_yaw: Option<usize>,
+    max_deviation: f64,
+    stop_at: &[usize],
+) -> Geometry {
     let unwrapped = unwrap(path, wrap_yaw);
     // Distinct consecutive points; `index[j]`: the distinct point waypoint j is.
     let mut points: Vec<&Vec<f64>> = vec![&unwrapped[0]];
@@ -216,6 +222,15 @@ pub(super) fn build(path: &[Vec<f64>], wrap_yaw: Option<usize>, max_deviation: f
     // corners[k]: the corner at distinct point k (only 1..points.len() − 1 are real).
     let mut corners = vec![Corner::Straight; points.len()];
     for k in 1..points.len().saturating_sub(1) {
+        // A waypoint asked to stop at is a stop whatever its angle (a straight one too).
+        if index
+            .iter()
+            .enumerate()
+            .any(|(j, &p)| p == k && stop_at.contains(&j))
+        {
+            corners[k] = Corner::Stop;
+            continue;
+        }
         corners[k] = corner(
             &directions[k - 1],
             &directions[k],

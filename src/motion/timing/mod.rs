@@ -120,7 +120,7 @@ mod whole_body;
 pub use differential::{SIDEWAYS_TOLERANCE, time_differential_drive};
 pub use error::TimingError;
 pub use exact::time_parameterise;
-pub use optimal::{BlendSettings, time_optimal};
+pub use optimal::{BlendSettings, time_optimal, time_optimal_stopping};
 pub use timed_path::TimedPath;
 pub use whole_body::time_whole_body_differential;
 

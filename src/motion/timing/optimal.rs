@@ -98,9 +98,51 @@ pub fn time_optimal(
     wrap_yaw: Option<usize>,
     settings: &BlendSettings,
 ) -> Result<TimedPath, TimingError> {
+    time_optimal_stopping(
+        path,
+        max_velocity,
+        max_acceleration,
+        wrap_yaw,
+        settings,
+        &[],
+    )
+}
+
+/// [`time_optimal`] with a stop at each waypoint of `stop_at` (indices into `path`; out of
+/// range ones are ignored): those corners are not blended, the trajectory passes through the
+/// waypoint at rest, and every other corner is blended as usual. A caller whose check rejects
+/// one blended corner stops there and keeps the others.
+///
+/// # Errors
+/// As [`time_optimal`].
+///
+/// # Example
+/// ```
+/// use kinscene::motion::timing::{BlendSettings, time_optimal_stopping};
+///
+/// // A zigzag of two corners at 1 m/s and 1 m/s² per axis; stop at the first only.
+/// let path = vec![vec![0.0, 0.0], vec![1.0, 0.0], vec![1.0, 1.0], vec![2.0, 1.0]];
+/// let (v, a) = ([1.0, 1.0], [1.0, 1.0]);
+/// let settings = BlendSettings { max_deviation: 0.05, ..BlendSettings::default() };
+/// let timed = time_optimal_stopping(&path, &v, &a, None, &settings, &[1])?;
+/// let at = |k: usize| {
+///     let v = timed.velocity(timed.times[k]);
+///     v[0].hypot(v[1])
+/// };
+/// assert!(at(1) < 1e-6 && at(2) > 0.3);
+/// # Ok::<(), kinscene::motion::timing::TimingError>(())
+/// ```
+pub fn time_optimal_stopping(
+    path: &[Vec<f64>],
+    max_velocity: &[f64],
+    max_acceleration: &[f64],
+    wrap_yaw: Option<usize>,
+    settings: &BlendSettings,
+    stop_at: &[usize],
+) -> Result<TimedPath, TimingError> {
     let exact = time_parameterise(path, max_velocity, max_acceleration, wrap_yaw)?;
     settings.validate()?;
-    let geometry = blend::build(path, wrap_yaw, settings.max_deviation);
+    let geometry = blend::build(path, wrap_yaw, settings.max_deviation, stop_at);
     if geometry.blends == 0 || geometry.segments.is_empty() {
         return Ok(exact);
     }

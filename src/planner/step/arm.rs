@@ -3,7 +3,7 @@
 
 use super::StepReason;
 use super::refine::{ArmPaths, Placed, StepRefinement};
-use super::shortcut::time_shortcuts;
+use super::shortcut::{random_time_shortcuts, time_shortcuts};
 use super::{Check, Failed, StepPath, check_manipulation, path_or_reason};
 use crate::kinematics::robot::{ArmCheck as FastArmCheck, ArmEdgeCheck, EdgeScene, Exempt};
 use crate::motion::paths::{MotionCheck, first_invalid, plan_arm_checked, plan_arm_with_motion};
@@ -39,8 +39,8 @@ impl StepRefinement<'_, '_> {
     }
 
     /// One free arm phase: OMPL, the dense re-check, then the time shortcuts
-    /// ([`PlannerSettings::arm_time_shortcuts`](crate::planner::PlannerSettings)), each
-    /// checked by the same dense rule.
+    /// ([`PlannerSettings::arm_time_shortcuts`](crate::planner::PlannerSettings)) and the
+    /// random ones (`arm_random_shortcuts`), each checked by the same dense rule.
     fn arm_phase(
         &self,
         from: &[f64],
@@ -135,12 +135,23 @@ impl StepRefinement<'_, '_> {
             .iter()
             .map(|j| j.max_velocity)
             .collect();
-        Ok(Ok(time_shortcuts(
+        let valid = |q: &[f64]| arm.valid(q);
+        let path = time_shortcuts(
             path,
             &vmax,
             ctx.settings.arm_time_shortcuts,
             resolution,
-            &|q| arm.valid(q),
+            &valid,
+        );
+        // One stream per phase, reproducible from the paths' seed.
+        let seed = ctx.settings.paths.seed.unwrap_or(0) ^ (which as u64).wrapping_mul(0x9e37_79b9);
+        Ok(Ok(random_time_shortcuts(
+            path,
+            &vmax,
+            ctx.settings.arm_random_shortcuts,
+            seed,
+            resolution,
+            &valid,
         )))
     }
 

@@ -202,7 +202,7 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
             Err(f) => return Ok(Err(f)),
         };
         let (base_timed, approach, (manipulation, manipulation_base), retreat) =
-            self.time(placed, &base_path, &arm)?;
+            self.time(handle, placed, &base_path, &arm)?;
         let timing = StepTiming {
             base: base_timed.duration,
             approach: approach.duration,

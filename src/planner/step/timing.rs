@@ -1,22 +1,29 @@
 //! The timing of a step's phases.
 
 use super::refine::{ArmPaths, Placed, StepRefinement};
-use crate::kinematics::robot::{BaseKind, Exempt};
+use nalgebra::DVector;
+
+use crate::kinematics::robot::{BaseKind, Exempt, RobotConfig};
 use crate::motion::timing::{
     BlendSettings, TimedPath, time_differential_drive, time_whole_body_differential,
 };
 use crate::planner::PlannerError;
 use crate::planner::timed::{timed, value_at};
+use crate::scene::collision::handle_front_shapes;
 use crate::scene::{SceneData, forward_kinematics};
 
 impl StepRefinement<'_, '_> {
     /// Times the base path and the arm's phases (a differential-drive base path exactly, with
     /// [`time_differential_drive`]): without stops at the corners where the
-    /// blended trajectory passes the same checks as the path, sampled densely; else with stops,
-    /// exactly on the checked path. Base, approach, manipulation (the arm, and the base of a
-    /// whole-body manipulation), retreat.
+    /// blended trajectory passes the same checks as the path, sampled densely; else with a
+    /// stop at the corner. Where the fingers may touch the grasped part (pre-grasp to
+    /// post-grasp), a blended sample must also keep the gripper's contact shapes off the
+    /// part's front (its shapes other than the handle's own): a corner cut there must not
+    /// press the fingers into the door. Base, approach, manipulation (the arm, and the base of
+    /// a whole-body manipulation), retreat.
     pub(super) fn time(
         &self,
+        handle: &str,
         placed: &Placed,
         base_path: &[Vec<f64>],
         arm: &ArmPaths,
@@ -48,6 +55,19 @@ impl StepRefinement<'_, '_> {
         let limits = (vmax.as_slice(), amax.as_slice());
         let resolution = settings.arm_check_resolution;
 
+        let handle = ctx.model.handle_id(handle)?;
+        let front = handle_front_shapes(ctx.model, handle)?;
+        let off_front = |b: [f64; 3], data: &SceneData, q: &[f64]| {
+            let config = RobotConfig {
+                base: b,
+                arm: DVector::from_column_slice(q),
+            };
+            ctx.robot.link_poses(&config).is_ok_and(|poses| {
+                ctx.collision
+                    .contact_touches(&poses, ctx.model, data, handle.part(), &front)
+                    .is_none()
+            })
+        };
         let free_before = self.arm(base, &self.data, Exempt::Nothing);
         let grasping_before = self.arm(base, &self.data, grasp);
         let approach = timed(
@@ -60,7 +80,7 @@ impl StepRefinement<'_, '_> {
                 if t < path.times[arm.pregrasp] {
                     free_before.valid(q)
                 } else {
-                    grasping_before.valid(q)
+                    grasping_before.valid(q) && off_front(base, &self.data, q)
                 }
             },
         )?;
@@ -71,10 +91,10 @@ impl StepRefinement<'_, '_> {
         });
         let manipulation = match placed.bases {
             None => (
-                self.time_fixed_manipulation(placed, limits, fine.as_ref())?,
+                self.time_fixed_manipulation(placed, limits, fine.as_ref(), &off_front)?,
                 None,
             ),
-            Some(_) => self.time_whole_body(placed, limits, fine.as_ref())?,
+            Some(_) => self.time_whole_body(placed, limits, fine.as_ref(), &off_front)?,
         };
         let base = placed.end_base();
         let data_after = self.after()?;
@@ -88,7 +108,7 @@ impl StepRefinement<'_, '_> {
             resolution,
             &|path, t, q| {
                 if t <= path.times[arm.postgrasp] {
-                    grasping_after.valid(q)
+                    grasping_after.valid(q) && off_front(base, &data_after, q)
                 } else {
                     free_after.valid(q)
                 }
@@ -105,6 +125,7 @@ impl StepRefinement<'_, '_> {
         placed: &Placed,
         limits: (&[f64], &[f64]),
         fine: Option<&BlendSettings>,
+        off_front: &OffFront<'_>,
     ) -> Result<TimedPath, PlannerError> {
         let model = self.ctx.model;
         let base = placed.base;
@@ -126,7 +147,7 @@ impl StepRefinement<'_, '_> {
                 {
                     return false;
                 }
-                self.arm_exact(base, data, grasp).valid(q)
+                self.arm_exact(base, data, grasp).valid(q) && off_front(base, data, q)
             },
         )
     }
@@ -144,6 +165,7 @@ impl StepRefinement<'_, '_> {
         placed: &Placed,
         (vmax, amax): (&[f64], &[f64]),
         fine: Option<&BlendSettings>,
+        off_front: &OffFront<'_>,
     ) -> Result<Manipulation, PlannerError> {
         let ctx = self.ctx;
         let model = ctx.model;
@@ -175,8 +197,8 @@ impl StepRefinement<'_, '_> {
                         {
                             return false;
                         }
-                        self.arm_exact([p[0], p[1], p[2]], data, grasp)
-                            .valid(&p[3..])
+                        let b = [p[0], p[1], p[2]];
+                        self.arm_exact(b, data, grasp).valid(&p[3..]) && off_front(b, data, &p[3..])
                     },
                 )?
             }
@@ -195,6 +217,10 @@ impl StepRefinement<'_, '_> {
         ))
     }
 }
+
+/// Whether the gripper's contact shapes keep off the grasped part's front with the base at
+/// the pose, the scene in the data and the arm at the configuration.
+type OffFront<'a> = dyn Fn([f64; 3], &SceneData, &[f64]) -> bool + 'a;
 
 /// The manipulation's timed paths: the arm's, and the base's of a whole-body manipulation.
 pub(super) type Manipulation = (TimedPath, Option<TimedPath>);
