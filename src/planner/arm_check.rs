@@ -61,6 +61,21 @@ impl ArmCheck<'_> {
         }
     }
 
+    /// [`ArmCheck::valid`], and the robot's links keep `margin` from each other too
+    /// ([`RobotCollision::self_collision_within`]): the check of the time shortcuts, which
+    /// pull a path tight against whatever it goes round, the robot itself included.
+    ///
+    /// [`RobotCollision::self_collision_within`]: crate::kinematics::robot::RobotCollision::self_collision_within
+    pub(super) fn valid_with_self_margin(&self, q: &[f64], margin: f64) -> bool {
+        self.valid(q)
+            && self.poses(q).is_some_and(|poses| {
+                self.ctx
+                    .collision
+                    .self_collision_within(&poses, margin)
+                    .is_none()
+            })
+    }
+
     /// What the robot touches at `q`, with URDF names (`None` if it is valid).
     pub(super) fn hit(&self, q: &[f64]) -> Option<Contact> {
         let ctx = self.ctx;

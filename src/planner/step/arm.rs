@@ -135,7 +135,9 @@ impl StepRefinement<'_, '_> {
             .iter()
             .map(|j| j.max_velocity)
             .collect();
-        let valid = |q: &[f64]| arm.valid(q);
+        // Shortcuts pull the path tight: they also keep the arm's margin from the robot
+        // itself, so that a leg cannot graze a link between its checked states.
+        let valid = |q: &[f64]| arm.valid_with_self_margin(q, arm.margin);
         let path = time_shortcuts(
             path,
             &vmax,

@@ -207,6 +207,19 @@ impl RobotCollision {
     /// touch or overlap at `link_poses` (world from link, as [`RobotModel::link_poses`]
     /// returns), or `None`. Links without a pose (a shorter slice) are not checked.
     pub fn self_collision(&self, link_poses: &[Isometry3<f64>]) -> Option<(usize, usize)> {
+        self.self_collision_within(link_poses, 0.0)
+    }
+
+    /// [`RobotCollision::self_collision`] with a clearance: the first checked link pair whose
+    /// shapes come within `margin` (m; a negative or NaN margin counts as 0) of each other.
+    /// For motions pulled tight against the robot itself (shortcuts), where a check at
+    /// sampled states with no clearance could let the motion graze between the samples.
+    pub fn self_collision_within(
+        &self,
+        link_poses: &[Isometry3<f64>],
+        margin: f64,
+    ) -> Option<(usize, usize)> {
+        let margin = if margin > 0.0 { margin } else { 0.0 };
         let centers = self.world_spheres(link_poses);
         let mut placed: Vec<Option<Vec<Placed<'_>>>> = Vec::with_capacity(self.shapes.len());
         placed.resize_with(self.shapes.len(), || None);
@@ -217,7 +230,7 @@ impl RobotCollision {
             ) else {
                 continue;
             };
-            if (ci - cj).norm() - ri - rj > 0.0 {
+            if (ci - cj).norm() - ri - rj > margin {
                 continue;
             }
             for k in [i, j] {
@@ -228,7 +241,7 @@ impl RobotCollision {
             let (Some(a), Some(b)) = (&placed[i], &placed[j]) else {
                 continue;
             };
-            if min_distance(a, b, 0.0) <= 0.0 {
+            if min_distance(a, b, margin) <= margin {
                 return Some((i, j));
             }
         }
