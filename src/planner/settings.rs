@@ -70,9 +70,11 @@ pub struct PlannerSettings {
     pub base_check_resolution: f64,
     /// Time parameterisation without stops at the paths' corners: each corner cut by at most
     /// `max_deviation` (rad in joint space for the arm; m and rad for the base) and the
-    /// blended trajectory timed time-optimally ([`time_optimal`]); it is kept only where it
-    /// passes the same checks as the path, sampled at the check resolution, else that phase
-    /// stops at its corners. `None`: every phase stops at its corners. Default: 0.02.
+    /// blended trajectory timed time-optimally ([`time_optimal`]); it must pass the same
+    /// checks as the path, sampled at the check resolution (where the fingers may touch the
+    /// grasped part, also keeping them off its front), and a corner whose blend fails them
+    /// becomes a stop at that corner alone. `None`: every phase stops at its corners.
+    /// Default: 0.02.
     ///
     /// [`time_optimal`]: crate::motion::timing::time_optimal
     pub blend: Option<BlendSettings>,
