@@ -260,7 +260,7 @@ impl RobotCollision {
                     .map(|s| {
                         (
                             Placed::new(s, &link_poses[l]),
-                            inflate(s.world_box(&link_poses[l]), margin),
+                            inflate(s.enclosing_world_box(&link_poses[l]), margin),
                         )
                     })
                     .collect()
