@@ -323,6 +323,64 @@ impl<'a> Placed<'a> {
         .unwrap_or(0.0)
     }
 
+    /// [`Placed::distance`] where it is at most `cutoff` (m), and `f64::INFINITY` where
+    /// parry's GJK proves it larger: for a pair that [`Placed::distance`] runs through the
+    /// hull walk, GJK is given `cutoff` as its `max_dist`, so that it stops at the first
+    /// support point whose lower bound exceeds `cutoff` instead of converging. Otherwise it
+    /// runs exactly the iterations of [`Placed::distance`] (that bound only ends them early),
+    /// so the distances at most `cutoff` are the same, bit for bit; other pairs are
+    /// [`Placed::distance`] itself.
+    pub(crate) fn distance_within(&self, other: &Placed<'_>, cutoff: f64) -> f64 {
+        match self.walked_distance_within(other, cutoff) {
+            Some(d) => d.max(0.0),
+            None => self.distance(other),
+        }
+    }
+
+    /// parry's `distance_support_map_support_map_with_params` with no initial direction
+    /// (the same steps) and GJK's `max_dist` set to `cutoff`: `+∞` when GJK stops on it.
+    /// `None` for the pairs [`Placed::walked_distance`] does not take.
+    fn walked_distance_within(&self, other: &Placed<'_>, cutoff: f64) -> Option<f64> {
+        use parry3d_f64::math::{DEFAULT_EPSILON, Vector};
+        use parry3d_f64::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
+        let (a, b) = (self.shape, other.shape);
+        if a.graph.is_none() && b.graph.is_none()
+            || a.shape.as_ball().is_some()
+            || b.shape.as_ball().is_some()
+            || cutoff.is_nan()
+        {
+            return None;
+        }
+        let (wa, wb) = (a.walk(), b.walk());
+        let sa: &dyn SupportMap = match &wa {
+            Some(w) => w,
+            None => a.shape.as_support_map()?,
+        };
+        let sb: &dyn SupportMap = match &wb {
+            Some(w) => w,
+            None => b.shape.as_support_map()?,
+        };
+        let pos12 = self.pose.inv_mul(&other.pose);
+        let dir = -pos12.translation;
+        let dir = if dir.length_squared() > DEFAULT_EPSILON * DEFAULT_EPSILON {
+            dir.normalize()
+        } else {
+            Vector::X
+        };
+        let mut simplex = VoronoiSimplex::new();
+        simplex.reset(CsoPoint::from_shapes(&pos12, sa, sb, dir));
+        let max_dist = cutoff.min(f64::MAX);
+        Some(
+            match gjk::closest_points(&pos12, sa, sb, max_dist, true, &mut simplex) {
+                GJKResult::ClosestPoints(p1, p2, _) => (p1 - p2).length(),
+                // GJK's lower bound passed `max_dist` (for `max_dist = f64::MAX`, never).
+                GJKResult::NoIntersection(_) if max_dist < f64::MAX => f64::INFINITY,
+                // As parry maps them (no proximity without `exact_dist = false`).
+                _ => 0.0,
+            },
+        )
+    }
+
     /// parry's distance of two support-mapped shapes, at least one a hull with a graph, none
     /// a ball (parry's dispatcher sends balls elsewhere); `None` for other pairs.
     fn walked_distance(&self, other: &Placed<'_>) -> Option<f64> {
