@@ -328,8 +328,10 @@ impl<'a> Placed<'a> {
     /// hull walk, GJK is given `cutoff` as its `max_dist`, so that it stops at the first
     /// support point whose lower bound exceeds `cutoff` instead of converging. Otherwise it
     /// runs exactly the iterations of [`Placed::distance`] (that bound only ends them early),
-    /// so the distances at most `cutoff` are the same, bit for bit; other pairs are
-    /// [`Placed::distance`] itself.
+    /// so the distances at most `cutoff` are the same, bit for bit. The same for the other
+    /// pairs parry's dispatcher sends to GJK (boxes, cylinders, capsules against each
+    /// other, but not two boxes); balls, box pairs and the rest are [`Placed::distance`]
+    /// itself.
     pub(crate) fn distance_within(&self, other: &Placed<'_>, cutoff: f64) -> f64 {
         match self.walked_distance_within(other, cutoff) {
             Some(d) => d.max(0.0),
@@ -339,15 +341,23 @@ impl<'a> Placed<'a> {
 
     /// parry's `distance_support_map_support_map_with_params` with no initial direction
     /// (the same steps) and GJK's `max_dist` set to `cutoff`: `+∞` when GJK stops on it.
-    /// `None` for the pairs [`Placed::walked_distance`] does not take.
+    /// For the pairs [`Placed::walked_distance`] takes, and the support-map pairs parry's
+    /// dispatcher sends to that function (no ball, not two boxes, two segments or a
+    /// half-space, which it sends elsewhere); `None` for the others.
     fn walked_distance_within(&self, other: &Placed<'_>, cutoff: f64) -> Option<f64> {
         use parry3d_f64::math::{DEFAULT_EPSILON, Vector};
         use parry3d_f64::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
+        use parry3d_f64::shape::HalfSpace;
         let (a, b) = (self.shape, other.shape);
-        if a.graph.is_none() && b.graph.is_none()
-            || a.shape.as_ball().is_some()
-            || b.shape.as_ball().is_some()
-            || cutoff.is_nan()
+        if a.shape.as_ball().is_some() || b.shape.as_ball().is_some() || cutoff.is_nan() {
+            return None;
+        }
+        if a.graph.is_none()
+            && b.graph.is_none()
+            && (a.shape.as_cuboid().is_some() && b.shape.as_cuboid().is_some()
+                || a.shape.as_segment().is_some() && b.shape.as_segment().is_some()
+                || a.shape.as_shape::<HalfSpace>().is_some()
+                || b.shape.as_shape::<HalfSpace>().is_some())
         {
             return None;
         }
