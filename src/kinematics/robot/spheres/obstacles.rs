@@ -201,7 +201,7 @@ impl SphereObstacles {
                 }
                 // As `reached` and `link_clearance` compute them.
                 let reach = r + block.reach;
-                *reached = *reached | dist2.simd_le(reach * reach);
+                *reached |= dist2.simd_le(reach * reach);
                 *least = least.min(dist2.sqrt() - block.reach - r);
             }
         }
