@@ -126,8 +126,11 @@ struct StateScratch {
 const CERTIFIED_GAP: f64 = 1e-6;
 
 /// Distance (m) up to which a pair's distance is computed exactly along a motion; beyond it
-/// the bound is this value (shape pairs farther apart are not computed).
-const BOUND_CUTOFF: f64 = 0.05;
+/// the bound is this value (shape pairs farther apart are not computed, and GJK stops once it
+/// proves a pair farther, see `Placed::distance_within`). It only sets how far the spans
+/// reach, never an answer: on MotionBenchMaker 2 cm costs fewer instructions than 1 or 5 cm
+/// (GJK stopped sooner against states re-checked more often).
+const BOUND_CUTOFF: f64 = 0.02;
 
 thread_local! {
     /// Per-thread scratch of [`ArmCheck::is_valid`] and [`ArmCheck::check_motion`].
