@@ -11,7 +11,8 @@
 //!
 //! `cargo bench --bench mbm` (optionally `-- PER_SET`, the first `PER_SET` problems of each
 //! family, default 100, all; `-- no-exact` to skip the exact-check mode; `-- only=K` to run
-//! mode K alone, 0-based in the printed order; `-- budget=S` for another budget than 2 s; the
+//! mode K alone, 0-based in the printed order; `-- budget=S` for another budget than 2 s;
+//! `-- iterations=N` to end RRTConnect after N iterations as well, for instruction counts; the
 //! printed `paths` digest is equal between builds that return the same paths).
 //!
 //! **Set-up (not timed, not in the tests).** The problems ship in the `vamp-planner` sdist on
@@ -269,8 +270,14 @@ fn main() {
     let budget = std::env::args()
         .find_map(|a| a.strip_prefix("budget=").and_then(|s| s.parse().ok()))
         .unwrap_or(2.0);
+    // `iterations=N`: RRTConnect also ends after N iterations (PathSettings::max_iterations),
+    // so that a problem it does not solve costs the same work on every machine (for
+    // instruction counts under callgrind with a large budget).
+    let max_iterations = std::env::args()
+        .find_map(|a| a.strip_prefix("iterations=").and_then(|n| n.parse().ok()));
     let settings = PathSettings {
         budget: Duration::from_secs_f64(budget),
+        max_iterations,
         seed: Some(1),
         // The full simplifier, the hierarchical planner's (the paths' default is Shortcut).
         simplifier: Simplifier::Full,

@@ -37,7 +37,7 @@ impl RobotCollision {
                     let placed = Placed::new(s, &link_poses[l]);
                     targets
                         .iter()
-                        .any(|t| placed.sphere_gap(t) <= 0.0 && placed.distance(t) <= 0.0)
+                        .any(|t| placed.sphere_gap(t) <= 0.0 && placed.distance_within(t, 0.0) <= 0.0)
                 })
         })
     }
@@ -160,7 +160,7 @@ impl RobotCollision {
                 among
                     && !(contact && s.grasped || base_link && s.floor)
                     && placed.sphere_gap(&s.placed) <= margin
-                    && placed.distance(&s.placed) <= margin
+                    && placed.distance_within(&s.placed, margin) <= margin
             })
         })
     }
@@ -196,7 +196,7 @@ impl RobotCollision {
             let d = if placed.sphere_gap(&other.placed) > cutoff {
                 cutoff
             } else {
-                placed.distance(&other.placed).min(cutoff)
+                placed.distance_within(&other.placed, cutoff).min(cutoff)
             };
             best = best.min(d);
         }

@@ -273,7 +273,7 @@ impl RobotCollision {
                     .map(|s| {
                         (
                             Placed::new(s, &link_poses[l]),
-                            inflate(s.world_box(&link_poses[l]), margin),
+                            inflate(s.enclosing_world_box(&link_poses[l]), margin),
                         )
                     })
                     .collect()
@@ -312,7 +312,7 @@ impl RobotCollision {
                     {
                         continue;
                     }
-                    let d = robot_shape.distance(scene_shape);
+                    let d = robot_shape.distance_within(scene_shape, margin);
                     if d <= margin && best.is_none_or(|(b, _)| d < b) {
                         best = Some((d, *body));
                     }
@@ -438,7 +438,7 @@ fn min_distance(a: &[Placed<'_>], b: &[Placed<'_>], cutoff: f64) -> f64 {
             if x.sphere_gap(y) > cutoff {
                 continue;
             }
-            best = best.min(x.distance(y));
+            best = best.min(x.distance_within(y, cutoff));
             if best <= 0.0 {
                 return best;
             }

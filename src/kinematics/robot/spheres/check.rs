@@ -75,6 +75,8 @@ pub(super) struct Layout {
     r: Vec<f32>,
     kind: Vec<u8>,
     centers: [Vec<f32>; 3],
+    /// Per block of 8, the centres' coordinates as lanes (from `centers`).
+    blocks: Vec<[f32x8; 3]>,
     real: Vec<f32x8>,
 }
 
@@ -111,6 +113,9 @@ impl Layout {
             .chunks(LANES)
             .map(|c| lanes(c, 0, 0.0).simd_gt(f32x8::splat(0.0)))
             .collect();
+        layout.blocks = (0..layout.real.len())
+            .map(|b| [0, 1, 2].map(|k| lanes(&layout.centers[k], b * LANES, 0.0)))
+            .collect();
         layout
     }
 }
@@ -129,25 +134,30 @@ impl RobotSpheres {
         data.r.extend_from_slice(&layout.r[..total]);
         data.kind.clear();
         data.kind.extend_from_slice(&layout.kind[..total]);
+        // Every lane up to `total` is written below: the old values need no clearing.
         for v in [&mut data.x, &mut data.y, &mut data.z] {
-            v.clear();
+            v.resize(total, FAR);
         }
         data.links.clear();
         let far = f32x8::splat(FAR);
         for (l, (spheres, pose)) in self.links.iter().zip(link_poses).enumerate() {
             let (start, end) = (layout.starts[l], layout.starts[l + 1]);
             let m = pose.rotation.to_rotation_matrix();
-            let r = |i: usize, j: usize| f32x8::splat(m[(i, j)] as f32);
+            let r: [[f32x8; 3]; 3] =
+                std::array::from_fn(|i| std::array::from_fn(|j| f32x8::splat(m[(i, j)] as f32)));
             let t = pose.translation.vector.map(|v| f32x8::splat(v as f32));
-            for b in (start..end).step_by(LANES) {
-                let [cx, cy, cz] = [0, 1, 2].map(|k| lanes(&layout.centers[k], b, 0.0));
-                let real = layout.real[b / LANES];
+            let blocks = start / LANES..end / LANES;
+            for (b, (&[cx, cy, cz], &real)) in blocks
+                .clone()
+                .zip(layout.blocks[blocks.clone()].iter().zip(&layout.real[blocks]))
+            {
+                let lanes = b * LANES..(b + 1) * LANES;
                 for (i, out) in [&mut data.x, &mut data.y, &mut data.z]
                     .into_iter()
                     .enumerate()
                 {
-                    let c = r(i, 0) * cx + r(i, 1) * cy + r(i, 2) * cz + t[i];
-                    out.extend_from_slice(real.select(c, far).as_array());
+                    let c = r[i][0] * cx + r[i][1] * cy + r[i][2] * cz + t[i];
+                    out[lanes.clone()].copy_from_slice(real.select(c, far).as_array());
                 }
             }
             data.links.push((start, spheres.len()));

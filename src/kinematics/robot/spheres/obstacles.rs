@@ -134,32 +134,91 @@ impl SphereObstacles {
             set.iter().any(|b| hits(b, &p, r))
         })
     }
+}
 
-    /// Sets `hit[k]` for every obstacle `k` (the order of [`SphereObstacles::new`]) that a
-    /// sphere of link `l` in `spheres` reaches, as [`SphereObstacles::link_hits`] tests them;
-    /// `hit` is resized to the number of obstacles, earlier flags are kept. Returns whether
-    /// any sphere reaches any obstacle.
-    pub(super) fn link_hit_obstacles(
+/// Scratch of [`SphereObstacles::link_gaps`]: per sphere kind, per block of its obstacles,
+/// the least gap over a link's spheres and the mask of the lanes reached; per obstacle the
+/// least gap.
+#[derive(Debug, Clone, Default)]
+pub(super) struct GapScratch {
+    least: [Vec<f32x8>; 4],
+    reached: [Vec<f32x8>; 4],
+    per_obstacle: Vec<f32>,
+}
+
+impl SphereObstacles {
+    /// One pass over the spheres of link `l` in `spheres` against their obstacles: sets
+    /// `hit[k]` for every obstacle `k` (the order of [`SphereObstacles::new`]) that a sphere
+    /// reaches as [`SphereObstacles::link_hits`] tests them (`hit` resized to the number of
+    /// obstacles, earlier flags kept), and returns whether any is reached, with the least gap
+    /// (m) from the link's spheres to the obstacles not flagged in `hit`: the same `f32`
+    /// values and minimum as [`SphereObstacles::link_clearance`] with `hit` as `skip`
+    /// (`f32::INFINITY` for a link not placed or without obstacles). The broad phase of
+    /// [`ArmCheck`](super::ArmCheck) computes each sphere-obstacle gap once with it.
+    pub(super) fn link_gaps(
         &self,
         spheres: &SphereData,
         l: usize,
         hit: &mut Vec<bool>,
-    ) -> bool {
+        scratch: &mut GapScratch,
+    ) -> (bool, f32) {
         hit.resize(self.count, false);
         let Some(&(start, n)) = spheres.links.get(l) else {
-            return false;
+            return (false, f32::INFINITY);
         };
-        let mut any = false;
+        let zero = f32x8::splat(0.0);
+        let inf = f32x8::splat(f32::INFINITY);
+        let mut used = [false; 4];
         for s in start..start + n {
             let kind = usize::from(spheres.kind[s] & 3);
+            let set = &self.sets[kind];
+            if !used[kind] {
+                used[kind] = true;
+                scratch.least[kind].clear();
+                scratch.least[kind].resize(set.len(), inf);
+                scratch.reached[kind].clear();
+                scratch.reached[kind].resize(set.len(), zero);
+            }
             let p = [
                 f32x8::splat(spheres.x[s]),
                 f32x8::splat(spheres.y[s]),
                 f32x8::splat(spheres.z[s]),
             ];
             let r = f32x8::splat(spheres.r[s]);
-            for (b, block) in self.sets[kind].iter().enumerate() {
-                let mut mask = reached(block, &p, r).to_bitmask();
+            let (least, reached) = (&mut scratch.least[kind], &mut scratch.reached[kind]);
+            for ((block, least), reached) in set.iter().zip(least).zip(reached) {
+                let d = [
+                    p[0] - block.center[0],
+                    p[1] - block.center[1],
+                    p[2] - block.center[2],
+                ];
+                let mut dist2 = zero;
+                for k in 0..3 {
+                    let along =
+                        block.axes[k][0] * d[0] + block.axes[k][1] * d[1] + block.axes[k][2] * d[2];
+                    let outside = (along.abs() - block.half[k]).max(zero);
+                    dist2 += outside * outside;
+                }
+                // As `reached` and `link_clearance` compute them.
+                let reach = r + block.reach;
+                *reached |= dist2.simd_le(reach * reach);
+                *least = least.min(dist2.sqrt() - block.reach - r);
+            }
+        }
+        let mut any = false;
+        let kinds = used.iter().filter(|u| **u).count();
+        if kinds == 1 {
+            // One kind (most links): each obstacle is one lane, so the lanes reached are the
+            // obstacles left out, and padding lanes (never reached) are kept as
+            // `link_clearance` keeps them.
+            let kind = used.iter().position(|u| *u).unwrap_or(0);
+            let mut clearance = inf;
+            for (b, (least, reached)) in scratch.least[kind]
+                .iter()
+                .zip(&scratch.reached[kind])
+                .enumerate()
+            {
+                let mut mask = reached.to_bitmask();
                 while mask != 0 {
                     let lane = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
@@ -168,9 +227,45 @@ impl SphereObstacles {
                         any = true;
                     }
                 }
+                clearance = clearance.min(reached.select(inf, *least));
+            }
+            let least = clearance.to_array().into_iter().fold(f32::INFINITY, f32::min);
+            return (any, least);
+        }
+        // Several kinds: an obstacle is in several sets, gathered per obstacle (padding lanes
+        // apart: their gaps kept, as `link_clearance` keeps them).
+        let per = &mut scratch.per_obstacle;
+        per.clear();
+        per.resize(self.count, f32::INFINITY);
+        let mut padding = f32::INFINITY;
+        for kind in (0..4).filter(|&k| used[k]) {
+            for (b, (least, reached)) in scratch.least[kind]
+                .iter()
+                .zip(&scratch.reached[kind])
+                .enumerate()
+            {
+                let mask = reached.to_bitmask();
+                for (lane, g) in least.to_array().into_iter().enumerate() {
+                    let index = self.index[kind][b * LANES + lane] as usize;
+                    match per.get_mut(index) {
+                        Some(least) => {
+                            *least = least.min(g);
+                            if mask & (1 << lane) != 0 {
+                                hit[index] = true;
+                                any = true;
+                            }
+                        }
+                        None => padding = padding.min(g),
+                    }
+                }
             }
         }
-        any
+        let clearance = per
+            .iter()
+            .zip(hit.iter())
+            .filter(|(_, h)| !**h)
+            .fold(padding, |best, (&g, _)| if g < best { g } else { best });
+        (any, clearance)
     }
 }
 

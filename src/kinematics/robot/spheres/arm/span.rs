@@ -98,12 +98,17 @@ impl ArmCheck<'_> {
             if ball - CERTIFIED_GAP >= enough {
                 return ball;
             }
-            let spheres = f64::from(self.obstacles.link_clearance(&s.spheres, l, &[]));
-            return ball.max(spheres);
+            // Compared by the broad phase where the ball is close.
+            let spheres = match s.link_gaps.get(l) {
+                Some(g) if !g.is_nan() => *g,
+                _ => self.obstacles.link_clearance(&s.spheres, l, &[]),
+            };
+            return ball.max(f64::from(spheres));
         };
         let reached = &s.reached[m];
         let margin = self.margin.max(0.0);
-        let mut d = f64::from(self.obstacles.link_clearance(&s.spheres, l, reached));
+        // The broad phase's gap to the obstacles the link's spheres do not reach.
+        let mut d = f64::from(s.link_gaps[l]);
         for (o, _) in reached.iter().enumerate().filter(|(_, r)| **r) {
             let slot = l * self.obstacles.len() + o;
             d = d.min(
