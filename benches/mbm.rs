@@ -273,8 +273,8 @@ fn main() {
     // `iterations=N`: RRTConnect also ends after N iterations (PathSettings::max_iterations),
     // so that a problem it does not solve costs the same work on every machine (for
     // instruction counts under callgrind with a large budget).
-    let max_iterations = std::env::args()
-        .find_map(|a| a.strip_prefix("iterations=").and_then(|n| n.parse().ok()));
+    let max_iterations =
+        std::env::args().find_map(|a| a.strip_prefix("iterations=").and_then(|n| n.parse().ok()));
     let settings = PathSettings {
         budget: Duration::from_secs_f64(budget),
         max_iterations,

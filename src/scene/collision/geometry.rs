@@ -457,7 +457,9 @@ mod tests {
                 let g = |i: i32| f64::from(i) * 0.02;
                 (-3..=3)
                     .flat_map(|i| (-3..=3).flat_map(move |j| (-3..=3).map(move |k| (i, j, k))))
-                    .filter(|&(i, j, k): &(i32, i32, i32)| i.abs() == 3 || j.abs() == 3 || k.abs() == 3)
+                    .filter(|&(i, j, k): &(i32, i32, i32)| {
+                        i.abs() == 3 || j.abs() == 3 || k.abs() == 3
+                    })
                     .map(|(i, j, k)| Point3::new(g(i), g(j), 1.5 * g(k)))
                     .collect()
             };

@@ -35,9 +35,9 @@ impl RobotCollision {
                 .filter(|(_, c)| **c)
                 .any(|(s, _)| {
                     let placed = Placed::new(s, &link_poses[l]);
-                    targets
-                        .iter()
-                        .any(|t| placed.sphere_gap(t) <= 0.0 && placed.distance_within(t, 0.0) <= 0.0)
+                    targets.iter().any(|t| {
+                        placed.sphere_gap(t) <= 0.0 && placed.distance_within(t, 0.0) <= 0.0
+                    })
                 })
         })
     }

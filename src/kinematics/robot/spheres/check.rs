@@ -147,10 +147,11 @@ impl RobotSpheres {
                 std::array::from_fn(|i| std::array::from_fn(|j| f32x8::splat(m[(i, j)] as f32)));
             let t = pose.translation.vector.map(|v| f32x8::splat(v as f32));
             let blocks = start / LANES..end / LANES;
-            for (b, (&[cx, cy, cz], &real)) in blocks
-                .clone()
-                .zip(layout.blocks[blocks.clone()].iter().zip(&layout.real[blocks]))
-            {
+            for (b, (&[cx, cy, cz], &real)) in blocks.clone().zip(
+                layout.blocks[blocks.clone()]
+                    .iter()
+                    .zip(&layout.real[blocks]),
+            ) {
                 let lanes = b * LANES..(b + 1) * LANES;
                 for (i, out) in [&mut data.x, &mut data.y, &mut data.z]
                     .into_iter()

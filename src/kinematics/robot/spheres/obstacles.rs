@@ -229,7 +229,10 @@ impl SphereObstacles {
                 }
                 clearance = clearance.min(reached.select(inf, *least));
             }
-            let least = clearance.to_array().into_iter().fold(f32::INFINITY, f32::min);
+            let least = clearance
+                .to_array()
+                .into_iter()
+                .fold(f32::INFINITY, f32::min);
             return (any, least);
         }
         // Several kinds: an obstacle is in several sets, gathered per obstacle (padding lanes
