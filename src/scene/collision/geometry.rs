@@ -146,6 +146,10 @@ impl CompiledShape {
     /// maximises each world coordinate as a dot product in the hull's frame, whose rounding
     /// differs from the transformed coordinate's by far less than the slack, so the box
     /// contains `world_box`'s.
+    #[cfg_attr(
+        not(all(feature = "ompl", feature = "pinocchio", feature = "casadi")),
+        allow(dead_code)
+    )]
     pub(crate) fn enclosing_world_box(&self, world_from_owner: &Isometry3<f64>) -> WorldBox {
         let grow = Vector3::repeat(ENCLOSING_SLACK);
         let (Some(hull), Some(graph)) = (self.shape.as_convex_polyhedron(), &self.graph) else {
@@ -248,6 +252,10 @@ impl CompiledShape {
 
 /// What [`CompiledShape::enclosing_world_box`] adds on every side (m): far above the
 /// rounding of a coordinate within kilometres of the origin (about 1e-13 m).
+#[cfg_attr(
+    not(all(feature = "ompl", feature = "pinocchio", feature = "casadi")),
+    allow(dead_code)
+)]
 pub(crate) const ENCLOSING_SLACK: f64 = 1e-9;
 
 /// An axis-aligned box in the world frame.
@@ -332,6 +340,10 @@ impl<'a> Placed<'a> {
     /// pairs parry's dispatcher sends to GJK (boxes, cylinders, capsules against each
     /// other, but not two boxes); balls, box pairs and the rest are [`Placed::distance`]
     /// itself.
+    #[cfg_attr(
+        not(all(feature = "ompl", feature = "pinocchio", feature = "casadi")),
+        allow(dead_code)
+    )]
     pub(crate) fn distance_within(&self, other: &Placed<'_>, cutoff: f64) -> f64 {
         match self.walked_distance_within(other, cutoff) {
             Some(d) => d.max(0.0),
@@ -344,6 +356,10 @@ impl<'a> Placed<'a> {
     /// For the pairs [`Placed::walked_distance`] takes, and the support-map pairs parry's
     /// dispatcher sends to that function (no ball, not two boxes, two segments or a
     /// half-space, which it sends elsewhere); `None` for the others.
+    #[cfg_attr(
+        not(all(feature = "ompl", feature = "pinocchio", feature = "casadi")),
+        allow(dead_code)
+    )]
     fn walked_distance_within(&self, other: &Placed<'_>, cutoff: f64) -> Option<f64> {
         use parry3d_f64::math::{DEFAULT_EPSILON, Vector};
         use parry3d_f64::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
