@@ -14,18 +14,7 @@ use nalgebra::DVector;
 use super::plan::ManipulationPlan;
 use super::sampled::wrap;
 use crate::kinematics::robot::{BaseKind, RobotModel};
-
-/// Minimum time (s) to move `d >= 0` from rest to rest under speed `v` and acceleration `a`.
-fn rest_to_rest(d: f64, v: f64, a: f64) -> f64 {
-    if d <= 0.0 {
-        0.0
-    } else if d * a <= v * v {
-        // Triangle: never reaches `v`.
-        2.0 * (d / a).sqrt()
-    } else {
-        d / v + v / a
-    }
-}
+use crate::motion::timing::rest_to_rest_time;
 
 /// Minimum time (s) of a straight line, rest to rest, whose coordinates move `d[i]` under
 /// limits `v[i]`, `a[i]`: the path parameter's limits are the tightest of `v[i] / d[i]` and
@@ -39,7 +28,7 @@ fn line(d: impl IntoIterator<Item = (f64, f64, f64)>) -> f64 {
         }
     }
     if v.is_finite() {
-        rest_to_rest(1.0, v, a)
+        rest_to_rest_time(1.0, v, a)
     } else {
         0.0
     }
@@ -70,14 +59,15 @@ pub(crate) fn base_time(robot: &RobotModel, from: [f64; 3], to: [f64; 3]) -> f64
             (wrap(to[2] - from[2]).abs(), v[2], a[2]),
         ]),
         BaseKind::DifferentialDrive => {
-            let turn = |angle: f64| rest_to_rest(wrap(angle).abs(), v[2], a[2]);
+            let turn = |angle: f64| rest_to_rest_time(wrap(angle).abs(), v[2], a[2]);
             if distance < 1e-9 {
                 return turn(to[2] - from[2]);
             }
             let heading = (to[1] - from[1]).atan2(to[0] - from[0]);
             // Forwards, or backwards (heading turned by π): whichever turns less.
             let by = |h: f64| turn(h - from[2]) + turn(to[2] - h);
-            by(heading).min(by(heading + std::f64::consts::PI)) + rest_to_rest(distance, v[0], a[0])
+            by(heading).min(by(heading + std::f64::consts::PI))
+                + rest_to_rest_time(distance, v[0], a[0])
         }
     }
 }
@@ -113,9 +103,9 @@ mod tests {
     /// 0.25 · 0.5 < 0.25, a triangle of 2·√(0.25/0.5) = 1.414 s.
     #[test]
     fn rest_to_rest_is_the_trapezoid_or_the_triangle() {
-        assert!((rest_to_rest(1.0, 0.5, 0.5) - 3.0).abs() < 1e-12);
-        assert!((rest_to_rest(0.25, 0.5, 0.5) - 2.0 * 0.5f64.sqrt()).abs() < 1e-12);
-        assert_eq!(rest_to_rest(0.0, 0.5, 0.5), 0.0);
+        assert!((rest_to_rest_time(1.0, 0.5, 0.5) - 3.0).abs() < 1e-12);
+        assert!((rest_to_rest_time(0.25, 0.5, 0.5) - 2.0 * 0.5f64.sqrt()).abs() < 1e-12);
+        assert_eq!(rest_to_rest_time(0.0, 0.5, 0.5), 0.0);
     }
 
     /// The slowest coordinate decides: 1 m at (0.5, 0.5) beside 0.1 m at (1, 1) is the 1 m

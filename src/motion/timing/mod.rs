@@ -121,6 +121,7 @@ pub use differential::{SIDEWAYS_TOLERANCE, time_differential_drive};
 pub use error::TimingError;
 pub use exact::time_parameterise;
 pub use optimal::{BlendSettings, time_optimal, time_optimal_stopping};
+pub(crate) use ramp::rest_to_rest_time;
 pub use timed_path::TimedPath;
 pub use whole_body::time_whole_body_differential;
 

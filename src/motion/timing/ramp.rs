@@ -1,6 +1,17 @@
 //! The scalar rest-to-rest profile: a path parameter `s` from 0 to 1 in minimum time under
 //! `|ṡ| ≤ v`, `|s̈| ≤ a` (bang–coast–bang: a trapezoid in `ṡ`, or a triangle).
 
+/// The minimum time (s) to move `distance` (>= 0) from rest to rest under speed `v` and
+/// acceleration `a`: [`Ramp::rest_to_rest`]'s duration for the path parameter
+/// `s = x / distance`, whose limits are `v / distance` and `a / distance`. 0 for no distance.
+pub(crate) fn rest_to_rest_time(distance: f64, v: f64, a: f64) -> f64 {
+    if distance > 0.0 {
+        Ramp::rest_to_rest(0.0, v / distance, a / distance).duration
+    } else {
+        0.0
+    }
+}
+
 /// A rest-to-rest profile of `s ∈ [0, 1]`, starting at time `start`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Ramp {

@@ -356,10 +356,6 @@ impl<'a> Placed<'a> {
     /// For the pairs [`Placed::walked_distance`] takes, and the support-map pairs parry's
     /// dispatcher sends to that function (no ball, not two boxes, two segments or a
     /// half-space, which it sends elsewhere); `None` for the others.
-    #[cfg_attr(
-        not(all(feature = "ompl", feature = "pinocchio", feature = "casadi")),
-        allow(dead_code)
-    )]
     fn walked_distance_within(&self, other: &Placed<'_>, cutoff: f64) -> Option<f64> {
         use parry3d_f64::math::{DEFAULT_EPSILON, Vector};
         use parry3d_f64::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
@@ -417,19 +413,8 @@ impl<'a> Placed<'a> {
         {
             return None;
         }
-        let (wa, wb) = (a.walk(), b.walk());
-        let sa: &dyn SupportMap = match &wa {
-            Some(w) => w,
-            None => a.shape.as_support_map()?,
-        };
-        let sb: &dyn SupportMap = match &wb {
-            Some(w) => w,
-            None => b.shape.as_support_map()?,
-        };
-        let pos12 = self.pose.inv_mul(&other.pose);
-        Some(query::details::distance_support_map_support_map(
-            &pos12, sa, sb,
-        ))
+        // With no cutoff, the same steps as parry's `distance_support_map_support_map`.
+        self.walked_distance_within(other, f64::INFINITY)
     }
 }
 

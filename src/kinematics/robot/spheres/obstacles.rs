@@ -22,6 +22,27 @@ struct Block {
     reach: f32x8,
 }
 
+impl Block {
+    /// Per lane, the squared distance from `p` to the lane's box (not rounded): every sphere
+    /// test of the broad phase goes through this one computation.
+    #[inline]
+    fn dist2(&self, p: &[f32x8; 3]) -> f32x8 {
+        let zero = f32x8::splat(0.0);
+        let d = [
+            p[0] - self.center[0],
+            p[1] - self.center[1],
+            p[2] - self.center[2],
+        ];
+        let mut dist2 = zero;
+        for k in 0..3 {
+            let along = self.axes[k][0] * d[0] + self.axes[k][1] * d[1] + self.axes[k][2] * d[2];
+            let outside = (along.abs() - self.half[k]).max(zero);
+            dist2 += outside * outside;
+        }
+        dist2
+    }
+}
+
 /// One obstacle before packing: world pose of its box, half extents, reach.
 type Rounded = (Isometry3<f64>, Vector3<f64>, f64);
 
@@ -187,18 +208,7 @@ impl SphereObstacles {
             let r = f32x8::splat(spheres.r[s]);
             let (least, reached) = (&mut scratch.least[kind], &mut scratch.reached[kind]);
             for ((block, least), reached) in set.iter().zip(least).zip(reached) {
-                let d = [
-                    p[0] - block.center[0],
-                    p[1] - block.center[1],
-                    p[2] - block.center[2],
-                ];
-                let mut dist2 = zero;
-                for k in 0..3 {
-                    let along =
-                        block.axes[k][0] * d[0] + block.axes[k][1] * d[1] + block.axes[k][2] * d[2];
-                    let outside = (along.abs() - block.half[k]).max(zero);
-                    dist2 += outside * outside;
-                }
+                let dist2 = block.dist2(&p);
                 // As `reached` and `link_clearance` compute them.
                 let reach = r + block.reach;
                 *reached |= dist2.simd_le(reach * reach);
@@ -282,7 +292,6 @@ impl SphereObstacles {
     /// sphere is at least this far from every (margin-inflated) obstacle.
     pub(super) fn clearances(&self, spheres: &SphereData, out: &mut Vec<f32>) {
         out.clear();
-        let zero = f32x8::splat(0.0);
         for &(start, n) in &spheres.links {
             for s in start..start + n {
                 let set = &self.sets[usize::from(spheres.kind[s] & 3)];
@@ -293,13 +302,7 @@ impl SphereObstacles {
                 ];
                 let mut least = f32x8::splat(f32::INFINITY);
                 for b in set {
-                    let d = [p[0] - b.center[0], p[1] - b.center[1], p[2] - b.center[2]];
-                    let mut dist2 = zero;
-                    for k in 0..3 {
-                        let along = b.axes[k][0] * d[0] + b.axes[k][1] * d[1] + b.axes[k][2] * d[2];
-                        let outside = (along.abs() - b.half[k]).max(zero);
-                        dist2 += outside * outside;
-                    }
+                    let dist2 = b.dist2(&p);
                     least = least.min(dist2.sqrt() - b.reach);
                 }
                 let least = least.to_array().into_iter().fold(f32::INFINITY, f32::min);
@@ -315,17 +318,10 @@ impl SphereObstacles {
     /// whatever its kind): as [`SphereObstacles::clearances`] for one sphere.
     pub(super) fn ball_clearance(&self, center: [f32; 3], radius: f32) -> f32 {
         let p = center.map(f32x8::splat);
-        let zero = f32x8::splat(0.0);
         let mut least = f32x8::splat(f32::INFINITY);
         // Set 0 (neither base link nor contact shape) exempts nothing: every obstacle.
         for b in &self.sets[0] {
-            let d = [p[0] - b.center[0], p[1] - b.center[1], p[2] - b.center[2]];
-            let mut dist2 = zero;
-            for k in 0..3 {
-                let along = b.axes[k][0] * d[0] + b.axes[k][1] * d[1] + b.axes[k][2] * d[2];
-                let outside = (along.abs() - b.half[k]).max(zero);
-                dist2 += outside * outside;
-            }
+            let dist2 = b.dist2(&p);
             least = least.min(dist2.sqrt() - b.reach);
         }
         least.to_array().into_iter().fold(f32::INFINITY, f32::min) - radius
@@ -340,7 +336,6 @@ impl SphereObstacles {
         let Some(&(start, n)) = spheres.links.get(l) else {
             return f32::INFINITY;
         };
-        let zero = f32x8::splat(0.0);
         let mut best = f32::INFINITY;
         let mut least = f32x8::splat(f32::INFINITY);
         // Nothing left out: the least over whole lanes, no per-lane look-up.
@@ -354,18 +349,7 @@ impl SphereObstacles {
             ];
             let r = f32x8::splat(spheres.r[s]);
             for (b, block) in self.sets[kind].iter().enumerate() {
-                let d = [
-                    p[0] - block.center[0],
-                    p[1] - block.center[1],
-                    p[2] - block.center[2],
-                ];
-                let mut dist2 = zero;
-                for k in 0..3 {
-                    let along =
-                        block.axes[k][0] * d[0] + block.axes[k][1] * d[1] + block.axes[k][2] * d[2];
-                    let outside = (along.abs() - block.half[k]).max(zero);
-                    dist2 += outside * outside;
-                }
+                let dist2 = block.dist2(&p);
                 let gap = dist2.sqrt() - block.reach - r;
                 if all {
                     least = least.min(gap);
@@ -397,16 +381,8 @@ fn hits(b: &Block, p: &[f32x8; 3], r: f32x8) -> bool {
 /// mask, see [`hits`]).
 #[inline]
 fn reached(b: &Block, p: &[f32x8; 3], r: f32x8) -> f32x8 {
-    let d = [p[0] - b.center[0], p[1] - b.center[1], p[2] - b.center[2]];
-    let zero = f32x8::splat(0.0);
-    let mut dist2 = zero;
-    for k in 0..3 {
-        let along = b.axes[k][0] * d[0] + b.axes[k][1] * d[1] + b.axes[k][2] * d[2];
-        let out = (along.abs() - b.half[k]).max(zero);
-        dist2 += out * out;
-    }
     let reach = r + b.reach;
-    dist2.simd_le(reach * reach)
+    b.dist2(p).simd_le(reach * reach)
 }
 
 /// Packs up to 8 obstacles into a block; missing lanes are far away with reach 0.
