@@ -3,12 +3,13 @@
 
 use super::StepReason;
 use super::refine::{ArmPaths, Placed, StepRefinement};
-use super::shortcut::{random_time_shortcuts, time_shortcuts};
+use super::shortcut::{Timer, random_time_shortcuts, time_shortcuts};
 use super::{Check, Failed, StepPath, check_manipulation, path_or_reason};
 use crate::kinematics::robot::{ArmCheck as FastArmCheck, ArmEdgeCheck, EdgeScene, Exempt};
 use crate::motion::paths::{MotionCheck, first_invalid, plan_arm_checked, plan_arm_with_motion};
 use crate::planner::PlannerError;
 use crate::planner::arm_check::ArmCheck;
+use crate::planner::timed::timed;
 use crate::scene::{SceneData, forward_kinematics};
 
 impl StepRefinement<'_, '_> {
@@ -129,32 +130,59 @@ impl StepRefinement<'_, '_> {
                 },
             )));
         }
-        let vmax: Vec<f64> = ctx
-            .robot
-            .arm_joints()
-            .iter()
-            .map(|j| j.max_velocity)
-            .collect();
+        let joints = ctx.robot.arm_joints();
+        let vmax: Vec<f64> = joints.iter().map(|j| j.max_velocity).collect();
+        let amax: Vec<f64> = joints.iter().map(|j| j.max_acceleration).collect();
+        let timer = Timer {
+            vmax: &vmax,
+            amax: &amax,
+            blend: ctx.settings.blend.as_ref(),
+        };
         // Shortcuts pull the path tight: they also keep the arm's margin from the robot
         // itself, so that a leg cannot graze a link between its checked states.
         let valid = |q: &[f64]| arm.valid_with_self_margin(q, arm.margin);
-        let path = time_shortcuts(
-            path,
-            &vmax,
+        let greedy = time_shortcuts(
+            path.clone(),
+            &timer,
             ctx.settings.arm_time_shortcuts,
             resolution,
             &valid,
         );
         // One stream per phase, reproducible from the paths' seed.
         let seed = ctx.settings.paths.seed.unwrap_or(0) ^ (which as u64).wrapping_mul(0x9e37_79b9);
-        Ok(Ok(random_time_shortcuts(
-            path,
-            &vmax,
+        let random = random_time_shortcuts(
+            greedy.clone(),
+            &timer,
             ctx.settings.arm_random_shortcuts,
             seed,
             resolution,
             &valid,
-        )))
+        );
+        // The shortcuts' timer assumes every corner blended; the step's timing stops where a
+        // blend fails its check, and a path pulled tight has more such corners. Of the path
+        // and its shortcut versions, the one quickest as the step times it (the same blends,
+        // checks and stops) is kept; the first on a tie.
+        let duration = |p: &[Vec<f64>]| -> Result<f64, PlannerError> {
+            Ok(timed(
+                p,
+                (&vmax, &amax),
+                None,
+                ctx.settings.blend.as_ref(),
+                resolution,
+                &|_, _, q| arm.valid(q),
+            )?
+            .duration)
+        };
+        let mut best = (duration(&path)?, path);
+        for candidate in [greedy, random] {
+            if candidate != best.1 {
+                let d = duration(&candidate)?;
+                if d < best.0 {
+                    best = (d, candidate);
+                }
+            }
+        }
+        Ok(Ok(best.1))
     }
 
     /// The scene after the step.

@@ -2,11 +2,47 @@
 //! metric, but the arm's time on a segment is set by its slowest joint (the largest
 //! `|Δq_j| / v_j`). A path that is shortest in length can still make one joint travel far:
 //! a detour through a folded arm, a wrist turned one way and back.
+//!
+//! **Which path is quicker.** A shortcut is proposed by the slowest joint's cruise time (the
+//! cheap filter), but taken only when the path with it is quicker as the planner times it
+//! ([`Timer`]: blended corners under the joints' speed and acceleration limits): a shortcut
+//! that saves cruise time but adds corners can be slower to execute.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use crate::motion::paths::first_invalid;
+use crate::motion::timing::{BlendSettings, time_optimal, time_parameterise};
+
+/// How the planner times an arm path: the joints' speed and acceleration limits, and the
+/// corner blending (`None`: a stop at every corner).
+pub(super) struct Timer<'a> {
+    pub vmax: &'a [f64],
+    pub amax: &'a [f64],
+    pub blend: Option<&'a BlendSettings>,
+}
+
+impl Timer<'_> {
+    /// The path's duration (s) as the planner times it ([`time_optimal`] or
+    /// [`time_parameterise`]), before any blend is re-checked; `+∞` when it cannot be timed.
+    fn duration(&self, path: &[Vec<f64>]) -> f64 {
+        let timed = match self.blend {
+            Some(blend) => time_optimal(path, self.vmax, self.amax, None, blend),
+            None => time_parameterise(path, self.vmax, self.amax, None),
+        };
+        timed.map_or(f64::INFINITY, |t| t.duration)
+    }
+
+    /// Whether the speed limits are usable (finite and positive): otherwise no shortcut.
+    fn usable(&self) -> bool {
+        self.vmax.len() == self.amax.len()
+            && self
+                .vmax
+                .iter()
+                .chain(self.amax)
+                .all(|v| v.is_finite() && *v > 0.0)
+    }
+}
 
 /// Relative improvement below which a shortcut is not taken (avoids trading corners for
 /// rounding).
@@ -28,17 +64,19 @@ fn leg_time(a: &[f64], b: &[f64], vmax: &[f64]) -> f64 {
 /// `resolution` of the largest joint change, the dense re-check's own rule) and quicker than
 /// the path between them. Deterministic; the first and last configurations are kept; with
 /// `subdivisions == 0`, or when no shortcut helps, the path is returned unchanged. Points
-/// that end up on a straight line between their neighbours are dropped.
+/// that end up on a straight line between their neighbours are dropped. The result is kept
+/// only when `timer` times it quicker than `path` (else `path` is returned).
 pub(super) fn time_shortcuts(
     path: Vec<Vec<f64>>,
-    vmax: &[f64],
+    timer: &Timer<'_>,
     subdivisions: usize,
     resolution: f64,
     valid: &dyn Fn(&[f64]) -> bool,
 ) -> Vec<Vec<f64>> {
-    if subdivisions == 0 || path.len() < 2 || vmax.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
+    if subdivisions == 0 || path.len() < 2 || !timer.usable() {
         return path;
     }
+    let vmax = timer.vmax;
     // The points: the waypoints and `subdivisions - 1` points inside each segment.
     let mut points = vec![path[0].clone()];
     for w in path.windows(2) {
@@ -86,7 +124,12 @@ pub(super) fn time_shortcuts(
         // No shortcut: the original waypoints.
         return path;
     }
-    drop_collinear(out)
+    let out = drop_collinear(out);
+    if timer.duration(&out) < timer.duration(&path) * (1.0 - MIN_GAIN) {
+        out
+    } else {
+        path
+    }
 }
 
 /// Whether the straight motion `a → b` is valid at the states [`first_invalid`] checks on it
@@ -140,27 +183,31 @@ fn point_at(path: &[Vec<f64>], along: &[f64], t: f64) -> (usize, Vec<f64>) {
     (k, q)
 }
 
-/// Random time shortcuts (Hauser and Ng-Thow-Hing's shortcutting, timed by the slowest
-/// joint): `attempts` times, two times along the path are drawn (seeded, reproducible), and
-/// the path between the two points at those times is replaced by the straight motion when
-/// that is quicker and free (every `resolution`, the dense re-check's rule). Where the greedy
-/// [`time_shortcuts`] only jump between points it divided the path into, these also cut a
-/// corner at any depth, so the path converges towards the quickest one around the same
-/// obstacles. The result passes [`first_invalid`] at `resolution` whenever `path` does (else
-/// `path` is returned unchanged); the ends are kept.
+/// Random time shortcuts (Hauser and Ng-Thow-Hing's shortcutting): `attempts` times, two
+/// times along the path are drawn (seeded, reproducible; the path's times by the slowest
+/// joint), and the path between the two points at those times is replaced by the straight
+/// motion when that is quicker by the slowest joint, the whole path is then quicker as
+/// `timer` times it (corners included), and the motion is free (every `resolution`, the
+/// dense re-check's rule). Where the greedy [`time_shortcuts`] only jump between points it
+/// divided the path into, these also cut a corner at any depth, so the path converges
+/// towards the quickest one around the same obstacles. The result passes [`first_invalid`]
+/// at `resolution` whenever `path` does (else `path` is returned unchanged); the ends are
+/// kept.
 pub(super) fn random_time_shortcuts(
     path: Vec<Vec<f64>>,
-    vmax: &[f64],
+    timer: &Timer<'_>,
     attempts: usize,
     seed: u64,
     resolution: f64,
     valid: &dyn Fn(&[f64]) -> bool,
 ) -> Vec<Vec<f64>> {
-    if attempts == 0 || path.len() < 3 || vmax.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
+    if attempts == 0 || path.len() < 3 || !timer.usable() {
         return path;
     }
+    let vmax = timer.vmax;
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut out = path.clone();
+    let mut current = timer.duration(&out);
     for _ in 0..attempts {
         if out.len() < 3 {
             break;
@@ -177,16 +224,20 @@ pub(super) fn random_time_shortcuts(
             // On one leg: already straight.
             continue;
         }
-        if leg_time(&a, &b, vmax) >= (t1 - t0) * (1.0 - MIN_GAIN)
-            || !straight_free(&a, &b, resolution, valid)
-        {
+        if leg_time(&a, &b, vmax) >= (t1 - t0) * (1.0 - MIN_GAIN) {
             continue;
         }
         let mut next = out[..=k0].to_vec();
-        next.push(a);
-        next.push(b);
+        next.push(a.clone());
+        next.push(b.clone());
         next.extend_from_slice(&out[k1 + 1..]);
+        let next = drop_collinear(dedup(next));
+        let time = timer.duration(&next);
+        if time >= current * (1.0 - MIN_GAIN) || !straight_free(&a, &b, resolution, valid) {
+            continue;
+        }
         out = next;
+        current = time;
     }
     let out = drop_collinear(dedup(out));
     if out.len() == path.len() && out == path {
@@ -239,6 +290,17 @@ fn drop_collinear(path: Vec<Vec<f64>>) -> Vec<Vec<f64>> {
 mod tests {
     use super::*;
 
+    /// A timer whose time is the slowest joint's cruise time up to a hair: accelerations so
+    /// high that stopping at the corners costs nothing measurable (the tests written for
+    /// the cruise metric).
+    fn cruise(vmax: &[f64]) -> Timer<'_> {
+        Timer {
+            vmax,
+            amax: &[1e9; 2],
+            blend: None,
+        }
+    }
+
     /// A 2-joint path around a square obstacle: the shortcut may not cross it, and takes the
     /// diagonal where it is free. Expected values by hand: the obstacle is the open square
     /// (0.2, 0.8)² in joint space.
@@ -249,7 +311,7 @@ mod tests {
         let vmax = [1.0, 1.0];
         // Around the obstacle: (0,0) → (1,0) → (1,1): time 2. The diagonal is blocked.
         let path = vec![vec![0.0, 0.0], vec![1.0, 0.0], vec![1.0, 1.0]];
-        let out = time_shortcuts(path.clone(), &vmax, 4, 0.01, &valid);
+        let out = time_shortcuts(path.clone(), &cruise(&vmax), 4, 0.01, &valid);
         let time = |p: &[Vec<f64>]| {
             p.windows(2)
                 .map(|w| leg_time(&w[0], &w[1], &vmax))
@@ -268,10 +330,13 @@ mod tests {
         assert!((time(&out) - 1.75).abs() < 1e-9, "{out:?}");
 
         // Without the obstacle the whole path becomes the diagonal: time 1.
-        let out = time_shortcuts(path.clone(), &vmax, 4, 0.01, &|_: &[f64]| true);
+        let out = time_shortcuts(path.clone(), &cruise(&vmax), 4, 0.01, &|_: &[f64]| true);
         assert_eq!(out, vec![vec![0.0, 0.0], vec![1.0, 1.0]]);
         // Off: unchanged.
-        assert_eq!(time_shortcuts(path.clone(), &vmax, 0, 0.01, &valid), path);
+        assert_eq!(
+            time_shortcuts(path.clone(), &cruise(&vmax), 0, 0.01, &valid),
+            path
+        );
     }
 
     /// The speed limits decide: a detour on a slow joint is cut even where the Euclidean
@@ -281,7 +346,7 @@ mod tests {
         let vmax = [10.0, 0.1];
         // Joint 1 goes out 0.5 and back: 10 s at 0.1 rad/s; straight, 0.1 s.
         let path = vec![vec![0.0, 0.0], vec![0.5, 0.5], vec![1.0, 0.0]];
-        let out = time_shortcuts(path, &vmax, 2, 0.01, &|_: &[f64]| true);
+        let out = time_shortcuts(path, &cruise(&vmax), 2, 0.01, &|_: &[f64]| true);
         assert_eq!(out, vec![vec![0.0, 0.0], vec![1.0, 0.0]]);
     }
 
@@ -306,7 +371,7 @@ mod tests {
                 .map(|w| leg_time(&w[0], &w[1], &vmax))
                 .sum::<f64>()
         };
-        let out = random_time_shortcuts(detour.clone(), &vmax, 200, 7, 0.01, &valid);
+        let out = random_time_shortcuts(detour.clone(), &cruise(&vmax), 200, 7, 0.01, &valid);
         assert!(time(&out) < time(&detour) - 0.5, "{} {out:?}", time(&out));
         assert!(time(&out) >= 1.0 - 1e-9);
         assert_eq!(out.first(), detour.first());
@@ -319,18 +384,58 @@ mod tests {
         );
         assert_eq!(
             out,
-            random_time_shortcuts(detour.clone(), &vmax, 200, 7, 0.01, &valid)
+            random_time_shortcuts(detour.clone(), &cruise(&vmax), 200, 7, 0.01, &valid)
         );
         // Off, or nothing to cut: unchanged.
         assert_eq!(
-            random_time_shortcuts(detour.clone(), &vmax, 0, 7, 0.01, &valid),
+            random_time_shortcuts(detour.clone(), &cruise(&vmax), 0, 7, 0.01, &valid),
             detour
         );
         let straight = vec![vec![0.0, 0.0], vec![1.0, 0.0]];
         assert_eq!(
-            random_time_shortcuts(straight.clone(), &vmax, 50, 7, 0.01, &valid),
+            random_time_shortcuts(straight.clone(), &cruise(&vmax), 50, 7, 0.01, &valid),
             straight
         );
+    }
+
+    /// A cut that saves cruise time but adds corners is not taken when the corners cost
+    /// more. An L through a corridor 0.1 wide, `(0,0) → (1,0) → (1,1)`, at 1 rad/s and
+    /// 1 rad/s², stopping at every corner: by hand each leg takes `2·√L` (a triangular
+    /// profile), 4 s in all. A free cut from `(x, 0)` to `(1, y)` (both within 0.1 of the
+    /// corner) makes three legs of `2·√x + 2·√max(1 − x, y) + 2·√(1 − y)` s, more than 4 s
+    /// since `√` is concave (e.g. 4.43 s at `x = 0.9, y = 0.1`), though its cruise time
+    /// `x + max(1 − x, y) + 1 − y` is less than 2 s: the path stays as it is. With corners
+    /// blended (the planner's default) the result is never slower than the input.
+    #[test]
+    fn shortcuts_that_add_costly_corners_are_not_taken() {
+        let corridor = |q: &[f64]| {
+            (q[1] <= 0.1 && (-0.1..=1.1).contains(&q[0]))
+                || (q[0] >= 0.9 && (-0.1..=1.1).contains(&q[1]))
+        };
+        let (vmax, amax) = ([1.0, 1.0], [1.0, 1.0]);
+        let stopping = Timer {
+            vmax: &vmax,
+            amax: &amax,
+            blend: None,
+        };
+        let path = vec![vec![0.0, 0.0], vec![1.0, 0.0], vec![1.0, 1.0]];
+        assert!((stopping.duration(&path) - 4.0).abs() < 1e-9);
+        assert_eq!(
+            random_time_shortcuts(path.clone(), &stopping, 200, 3, 0.01, &corridor),
+            path
+        );
+        // The cruise metric alone would cut the corner.
+        let cut = random_time_shortcuts(path.clone(), &cruise(&vmax), 200, 3, 0.01, &corridor);
+        assert_ne!(cut, path);
+        let blend = BlendSettings::default();
+        let blended = Timer {
+            vmax: &vmax,
+            amax: &amax,
+            blend: Some(&blend),
+        };
+        let out = random_time_shortcuts(path.clone(), &blended, 200, 3, 0.01, &corridor);
+        assert!(blended.duration(&out) <= blended.duration(&path));
+        assert!(first_invalid(&out, 0.01, false, &corridor).is_none());
     }
 
     /// The coarse-to-fine check visits exactly the states of the sequential one.
