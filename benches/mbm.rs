@@ -12,8 +12,10 @@
 //! `cargo bench --bench mbm` (optionally `-- PER_SET`, the first `PER_SET` problems of each
 //! family, default 100, all; `-- no-exact` to skip the exact-check mode; `-- only=K` to run
 //! mode K alone, 0-based in the printed order; `-- budget=S` for another budget than 2 s;
-//! `-- iterations=N` to end RRTConnect after N iterations as well, for instruction counts; the
-//! printed `paths` digest is equal between builds that return the same paths).
+//! `-- iterations=N` to end RRTConnect after N iterations as well, for instruction counts;
+//! `-- range=R` for RRTConnect's range in rad instead of the default
+//! [`ARM_RANGE`](kinscene::motion::paths::ARM_RANGE); the printed `paths` digest is equal
+//! between builds that return the same paths).
 //!
 //! **Set-up (not timed, not in the tests).** The problems ship in the `vamp-planner` sdist on
 //! PyPI (`resources/panda/problems.tar.bz2`, MoveIt scene and request YAML). The first run
@@ -275,9 +277,13 @@ fn main() {
     // instruction counts under callgrind with a large budget).
     let max_iterations =
         std::env::args().find_map(|a| a.strip_prefix("iterations=").and_then(|n| n.parse().ok()));
+    // `range=R`: RRTConnect's range (rad; default `PathSettings::range` None: `ARM_RANGE` here).
+    let range =
+        std::env::args().find_map(|a| a.strip_prefix("range=").and_then(|r| r.parse().ok()));
     let settings = PathSettings {
         budget: Duration::from_secs_f64(budget),
         max_iterations,
+        range,
         seed: Some(1),
         // The full simplifier, the hierarchical planner's (the paths' default is Shortcut).
         simplifier: Simplifier::Full,
