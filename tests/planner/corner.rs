@@ -38,6 +38,26 @@ fn planner(turn: f64) -> HierarchicalPlanner {
         .expect("the shipped robot builds")
 }
 
+/// `problem` planned by `planner` within 300 s; panics (naming `what`) unless it is solved.
+fn solved(
+    planner: &HierarchicalPlanner,
+    model: &SceneModel,
+    problem: &kinscene::task::Problem,
+    what: &str,
+) -> MotionPlan {
+    let result = planner
+        .plan(
+            model,
+            problem,
+            &Termination::after(Duration::from_secs(300)),
+        )
+        .expect("valid input");
+    let MotionOutcome::Solved(plan) = result.outcome else {
+        panic!("{what}: expected a plan, got {:?}", result.outcome);
+    };
+    plan
+}
+
 /// Plans `goal` (a goal file's text, or a `[goal]` table's lines) from the kitchen's open side with turned grasps up
 /// to 1.2 rad, re-checks the plan and returns it.
 fn planned_and_rechecked(goal: &str) -> MotionPlan {
@@ -50,16 +70,7 @@ fn planned_and_rechecked(goal: &str) -> MotionPlan {
     let problem = super::problem(&model, &text);
     let planner = planner(1.2);
     let started = Instant::now();
-    let result = planner
-        .plan(
-            &model,
-            &problem,
-            &Termination::after(Duration::from_secs(300)),
-        )
-        .expect("valid input");
-    let MotionOutcome::Solved(plan) = result.outcome else {
-        panic!("{goal}: expected a plan, got {:?}", result.outcome);
-    };
+    let plan = solved(&planner, &model, &problem, goal);
     let report = recheck(&planner, &model, &problem.start, &plan).unwrap_or_else(|v| panic!("{v}"));
     let steps: Vec<String> = plan
         .steps
@@ -176,19 +187,7 @@ fn the_corner_doors_open_back_first() {
     settings.arm_time_shortcuts = 0;
     settings.arm_random_shortcuts = 0;
     planner = HierarchicalPlanner::new(RobotModel::kinova_gen3_mobile(), settings).unwrap();
-    let result = planner
-        .plan(
-            &model,
-            &problem,
-            &Termination::after(Duration::from_secs(300)),
-        )
-        .expect("valid input");
-    let MotionOutcome::Solved(without) = result.outcome else {
-        panic!(
-            "without shortcuts: expected a plan, got {:?}",
-            result.outcome
-        );
-    };
+    let without = solved(&planner, &model, &problem, "without shortcuts");
     eprintln!(
         "executed: {:.2} s with the time shortcuts, {:.2} s without",
         plan.duration(),
