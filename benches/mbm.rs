@@ -13,7 +13,8 @@
 //! family, default 100, all; `-- no-exact` to skip the exact-check mode; `-- only=K` to run
 //! mode K alone, 0-based in the printed order; `-- budget=S` for another budget than 2 s;
 //! `-- iterations=N` to end RRTConnect after N iterations as well, for instruction counts;
-//! `-- range=R` for RRTConnect's range in rad instead of [`RANGE`], `range=ompl` for OMPL's;
+//! `-- range=R` for RRTConnect's range in rad instead of the default
+//! [`ARM_RANGE`](kinscene::motion::paths::ARM_RANGE) (`range=2.6`: OMPL's own on the Panda);
 //! the printed `paths` digest is equal between builds that return the same paths).
 //!
 //! **Set-up (not timed, not in the tests).** The problems ship in the `vamp-planner` sdist on
@@ -31,7 +32,7 @@
 //! counted apart ("invalid endpoints") and the success rate is over the others.
 //!
 //! **Checks.** Clearance 0 (touching is a collision, as in MoveIt), OMPL's resolution 0.01 rad
-//! ([`PathSettings::default`]), RRTConnect's range [`RANGE`], seeded, 2 s budget per problem. Every returned path is
+//! ([`PathSettings::default`]), seeded, 2 s budget per problem. Every returned path is
 //! re-checked with the exact check at a quarter of the planner's spacing ([`first_invalid`]);
 //! paths failing it are reported (issue 23's thin-obstacle problem).
 //!
@@ -62,13 +63,6 @@ use nalgebra::{DVector, Isometry3, Quaternion, Translation3, UnitQuaternion, Vec
 use serde::Deserialize;
 
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
-
-/// RRTConnect's range (rad, joint-space Euclidean distance) on these problems
-/// ([`PathSettings::range`]). OMPL's default is a fifth of the space's extent, 2.6 rad for the
-/// Panda; with the ArmCheck and the shortcut simplifier (100 per family) 0.75 rad gave a p95
-/// of 17 ms against 99 ms at OMPL's range (median 2.1 against 2.2 ms, 625 against 622 of 630
-/// solved): long extensions into clutter fail late and are thrown away (`range=R` to compare).
-const RANGE: f64 = 0.75;
 
 /// Planning modes: exact, sphere fast path, certified edges, [`ArmCheck`] with OMPL's full
 /// simplifier and with [`Simplifier::Shortcut`], and the latter evaluating every state of a
@@ -283,12 +277,9 @@ fn main() {
     // instruction counts under callgrind with a large budget).
     let max_iterations =
         std::env::args().find_map(|a| a.strip_prefix("iterations=").and_then(|n| n.parse().ok()));
-    // `range=R`: RRTConnect's range (rad); default 0.75 (`RANGE`), `range=ompl` for OMPL's.
-    let range = match std::env::args().find_map(|a| a.strip_prefix("range=").map(str::to_owned)) {
-        Some(r) if r == "ompl" => None,
-        Some(r) => Some(r.parse().expect("range=R: a number of radians, or ompl")),
-        None => Some(RANGE),
-    };
+    // `range=R`: RRTConnect's range (rad) instead of the arm paths' default (`ARM_RANGE`).
+    let range =
+        std::env::args().find_map(|a| a.strip_prefix("range=").and_then(|r| r.parse().ok()));
     let settings = PathSettings {
         budget: Duration::from_secs_f64(budget),
         max_iterations,

@@ -22,6 +22,9 @@ pub(super) struct ArmCheck<'a> {
     pub data: &'a SceneData,
     pub exempt: Exempt<'a>,
     pub margin: f64,
+    /// The clearance (m) the robot's checked link pairs keep from each other; 0: touching is
+    /// the only self-collision. The free phases keep one (see `StepRefinement::free_arm`).
+    pub self_margin: f64,
     pub obstacles: Option<SphereObstacles>,
 }
 
@@ -48,6 +51,13 @@ impl ArmCheck<'_> {
                 .scene_collision(&poses, ctx.model, self.data, self.exempt, self.margin)
                 .is_none()
         };
+        if self.self_margin > 0.0 {
+            let self_free = ctx
+                .collision
+                .self_collision_within(&poses, self.self_margin)
+                .is_none();
+            return self_free && self.scene_free(&poses, exact_scene);
+        }
         match (ctx.spheres, &self.obstacles) {
             (Some(spheres), Some(obstacles)) => {
                 let mut placed = SphereData::default();
@@ -61,19 +71,17 @@ impl ArmCheck<'_> {
         }
     }
 
-    /// [`ArmCheck::valid`], and the robot's links keep `margin` from each other too
-    /// ([`RobotCollision::self_collision_within`]): the check of the time shortcuts, which
-    /// pull a path tight against whatever it goes round, the robot itself included.
-    ///
-    /// [`RobotCollision::self_collision_within`]: crate::kinematics::robot::RobotCollision::self_collision_within
-    pub(super) fn valid_with_self_margin(&self, q: &[f64], margin: f64) -> bool {
-        self.valid(q)
-            && self.poses(q).is_some_and(|poses| {
-                self.ctx
-                    .collision
-                    .self_collision_within(&poses, margin)
-                    .is_none()
-            })
+    /// Whether the robot at `poses` keeps the margin from the scene: the sphere broad phase
+    /// first where there is one, `exact` (parry) where a sphere reaches an obstacle.
+    fn scene_free(&self, poses: &[nalgebra::Isometry3<f64>], exact: impl FnOnce() -> bool) -> bool {
+        match (self.ctx.spheres, &self.obstacles) {
+            (Some(spheres), Some(obstacles)) => {
+                let mut placed = SphereData::default();
+                spheres.place(poses, &mut placed);
+                obstacles.first_hit(&placed).is_none() || exact()
+            }
+            _ => exact(),
+        }
     }
 
     /// What the robot touches at `q`, with URDF names (`None` if it is valid).
@@ -94,6 +102,17 @@ impl ArmCheck<'_> {
         .map(|obstacle| Contact::Touches {
             obstacle,
             margin: self.margin,
+        })
+        .or_else(|| {
+            // Apart, but within the self-clearance.
+            let (i, j) = ctx
+                .collision
+                .self_collision_within(&poses, self.self_margin)?;
+            let name = |l: usize| ctx.robot.links()[l].name.clone();
+            Some(Contact::Touches {
+                obstacle: Obstacle::SelfCollision(i, j, [name(i), name(j)]),
+                margin: self.self_margin,
+            })
         })
     }
 

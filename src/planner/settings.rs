@@ -44,7 +44,10 @@ pub struct PlannerSettings {
     /// of joint motion, so OMPL's and the re-check's discrete checks keep real clearance). Between
     /// the pre-grasp and the post-grasp configuration, the gripper's contact shapes alone may
     /// touch the grasped part (and its descendants); every other shape keeps the margin from it
-    /// too.
+    /// too. The free arm paths (to and from the stow) also keep the arm paths' clearance
+    /// between the robot's own links, or half the least clearance their two end
+    /// configurations have where that is less (a stow with links close together stays
+    /// valid).
     pub margin: f64,
     /// Arm configuration for driving and between steps; `None`: [`RobotModel::neutral`].
     pub stow: Option<DVector<f64>>,

@@ -58,8 +58,8 @@ pub use differential::{DifferentialFailure, SAME_POSITION, STRAIGHT_IN, differen
 pub use error::PathError;
 pub use kinscene_ompl::{Planner, Simplifier};
 pub use plan::{
-    CONTINUOUS_JOINT_WINDOW, MotionCheck, plan_arm, plan_arm_checked, plan_arm_with_motion,
-    plan_base,
+    ARM_RANGE, CONTINUOUS_JOINT_WINDOW, MotionCheck, plan_arm, plan_arm_checked,
+    plan_arm_with_motion, plan_base,
 };
 pub use recheck::first_invalid;
 
@@ -78,10 +78,9 @@ pub struct PathSettings {
     /// the validity closure should keep a clearance margin that covers it.
     pub resolution: f64,
     /// Largest extension of the planner's trees, in the same distance as `resolution`
-    /// (OMPL's `range`); `None` (default): OMPL's own (a fifth of the space's maximum extent
-    /// for most planners). Ignored by planners without a range. In clutter a shorter range
-    /// pays: on the MotionBenchMaker Panda set (`cargo bench --bench mbm`), 0.75 rad against
-    /// OMPL's 2.6 cut the p95 plan time from 99 to 17 ms.
+    /// (OMPL's `range`); `None` (default): OMPL's own, a fifth of the space's maximum extent
+    /// for most planners, capped at [`ARM_RANGE`] for arm paths (measured there). Ignored by
+    /// planners without a range.
     pub range: Option<f64>,
     /// Shorten and smooth the path with OMPL's `PathSimplifier` (within the budget). Default
     /// true.

@@ -75,13 +75,10 @@ impl StepRefinement<'_, '_> {
         // state, the states OMPL's discrete check would visit, one call per motion); the
         // dense re-check below stays with this step's own check.
         let fast = match (ctx.spheres, &edges) {
-            (Some(spheres), None) => Some(FastArmCheck::new(
-                ctx.robot,
-                ctx.collision,
-                spheres,
-                scene,
-                arm.base,
-            )?),
+            (Some(spheres), None) => Some(
+                FastArmCheck::new(ctx.robot, ctx.collision, spheres, scene, arm.base)?
+                    .with_self_margin(arm.self_margin),
+            ),
             _ => None,
         };
         let outcome = match &fast {
@@ -138,9 +135,10 @@ impl StepRefinement<'_, '_> {
             amax: &amax,
             blend: ctx.settings.blend.as_ref(),
         };
-        // Shortcuts pull the path tight: they also keep the arm's margin from the robot
-        // itself, so that a leg cannot graze a link between its checked states.
-        let valid = |q: &[f64]| arm.valid_with_self_margin(q, arm.margin);
+        // Shortcuts pull the path tight, against the robot itself too: the phase's check
+        // keeps a clearance from it (`free_arm`), so that a leg cannot graze a link between
+        // its checked states.
+        let valid = |q: &[f64]| arm.valid(q);
         let greedy = time_shortcuts(
             path.clone(),
             &timer,
@@ -218,7 +216,7 @@ impl StepRefinement<'_, '_> {
         ) {
             return Ok(Err(f));
         }
-        let free_before = self.arm(base, &self.data, Exempt::Nothing);
+        let free_before = self.free_arm(base, &self.data, stow, &inward[0]);
         let free_path = match self.arm_phase(
             stow,
             &inward[0],
@@ -259,7 +257,7 @@ impl StepRefinement<'_, '_> {
         let free_path = match self.arm_phase(
             &outward[postgrasp],
             stow,
-            &self.arm(base, &data_after, Exempt::Nothing),
+            &self.free_arm(base, &data_after, &outward[postgrasp], stow),
             Check::Retreat,
             StepPath::ArmToStow,
         )? {

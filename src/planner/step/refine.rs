@@ -272,7 +272,42 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
             data,
             exempt,
             margin: self.arm_margin,
+            self_margin: 0.0,
             obstacles: None,
+        }
+    }
+
+    /// The check of a free arm phase from `from` to `to` at `base` in the scene `data`
+    /// (nothing exempt): as [`arm`](Self::arm), and the robot's links keep a clearance from
+    /// each other, the arm margin but at most half the least one the phase's ends have (so
+    /// that a stow or pre-grasp with two links close together stays valid). A path with no
+    /// self-clearance can graze the robot between its checked states, and a real arm tracks
+    /// its path with some error.
+    pub(super) fn free_arm<'d>(
+        &'d self,
+        base: [f64; 3],
+        data: &'d SceneData,
+        from: &[f64],
+        to: &[f64],
+    ) -> ArmCheck<'d>
+    where
+        'c: 'd,
+    {
+        let ctx = self.ctx;
+        let clearance = |q: &[f64]| {
+            ctx.robot
+                .link_poses(&RobotConfig {
+                    base,
+                    arm: DVector::from_column_slice(q),
+                })
+                .map_or(0.0, |poses| {
+                    ctx.collision.self_clearance(&poses, 2.0 * self.arm_margin)
+                })
+        };
+        let ends = clearance(from).min(clearance(to));
+        ArmCheck {
+            self_margin: self.arm_margin.min(0.5 * ends).max(0.0),
+            ..self.arm(base, data, Exempt::Nothing)
         }
     }
 

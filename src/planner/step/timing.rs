@@ -68,7 +68,8 @@ impl StepRefinement<'_, '_> {
                     .is_none()
             })
         };
-        let free_before = self.arm(base, &self.data, Exempt::Nothing);
+        let stow = ctx.stow.as_slice();
+        let free_before = self.free_arm(base, &self.data, stow, &arm.approach[arm.pregrasp]);
         let grasping_before = self.arm(base, &self.data, grasp);
         let approach = timed(
             &arm.approach,
@@ -99,7 +100,7 @@ impl StepRefinement<'_, '_> {
         let base = placed.end_base();
         let data_after = self.after()?;
         let grasping_after = self.arm(base, &data_after, grasp);
-        let free_after = self.arm(base, &data_after, Exempt::Nothing);
+        let free_after = self.free_arm(base, &data_after, &arm.retreat[arm.postgrasp], stow);
         let retreat = timed(
             &arm.retreat,
             limits,

@@ -220,6 +220,39 @@ impl RobotCollision {
         margin: f64,
     ) -> Option<(usize, usize)> {
         let margin = if margin > 0.0 { margin } else { 0.0 };
+        let mut hit = None;
+        self.pair_distances_within(link_poses, margin, &mut |i, j, d| {
+            if d <= margin {
+                hit = Some((i, j));
+            }
+            hit.is_none()
+        });
+        hit
+    }
+
+    /// The least distance (m) between the shapes of any checked link pair at `link_poses`,
+    /// exact where it is at most `cap` (m; a negative or NaN cap counts as 0) and `cap`
+    /// otherwise (`<= 0` when a pair touches). For a clearance a motion can keep: the
+    /// clearance its end configurations already have.
+    pub fn self_clearance(&self, link_poses: &[Isometry3<f64>], cap: f64) -> f64 {
+        let cap = if cap > 0.0 { cap } else { 0.0 };
+        let mut least = cap;
+        self.pair_distances_within(link_poses, cap, &mut |_, _, d| {
+            least = least.min(d);
+            true
+        });
+        least
+    }
+
+    /// Calls `visit(i, j, d)` for the checked pairs `(i, j)` in order whose bounding spheres
+    /// come within `cutoff` (m, `>= 0`), with their exact distance `d` where it is at most
+    /// `cutoff` (a lower bound otherwise), until `visit` returns `false`.
+    fn pair_distances_within(
+        &self,
+        link_poses: &[Isometry3<f64>],
+        cutoff: f64,
+        visit: &mut dyn FnMut(usize, usize, f64) -> bool,
+    ) {
         let centers = self.world_spheres(link_poses);
         let mut placed: Vec<Option<Vec<Placed<'_>>>> = Vec::with_capacity(self.shapes.len());
         placed.resize_with(self.shapes.len(), || None);
@@ -230,7 +263,7 @@ impl RobotCollision {
             ) else {
                 continue;
             };
-            if (ci - cj).norm() - ri - rj > margin {
+            if (ci - cj).norm() - ri - rj > cutoff {
                 continue;
             }
             for k in [i, j] {
@@ -241,11 +274,10 @@ impl RobotCollision {
             let (Some(a), Some(b)) = (&placed[i], &placed[j]) else {
                 continue;
             };
-            if min_distance(a, b, margin) <= margin {
-                return Some((i, j));
+            if !visit(i, j, min_distance(a, b, cutoff)) {
+                return;
             }
         }
-        None
     }
 
     /// The first robot link (lowest index) within `margin` (m, clearance required) of the

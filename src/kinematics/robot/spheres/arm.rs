@@ -3,7 +3,8 @@
 //!
 //! **Answer.** [`ArmCheck::is_valid`] gives the answer of the exact parry check,
 //! `self_collision(poses).is_none() && scene_collision(poses, ..).is_none()` of
-//! [`RobotCollision`] (same poses, same pairs, same exemptions, same margin): the sphere model
+//! [`RobotCollision`] (same poses, same pairs, same exemptions, same margin; with
+//! [`ArmCheck::with_self_margin`], `self_collision_within(poses, margin)`): the sphere model
 //! is only the broad phase. A link whose spheres clear every obstacle cannot reach the scene,
 //! and a checked pair whose spheres are apart cannot touch (the spheres cover the exact shapes,
 //! see the module [`super`]); every other link and pair is decided by parry.
@@ -64,6 +65,8 @@ pub struct ArmCheck<'a> {
     link_levers: Vec<Vec<(usize, f64)>>,
     /// Whether a motion check skips the states certified free by a checked state's span.
     spans: bool,
+    /// The clearance (m, `>= 0`) every checked link pair keeps ([`ArmCheck::with_self_margin`]).
+    self_margin: f64,
 }
 
 impl std::fmt::Debug for ArmCheck<'_> {
@@ -195,7 +198,19 @@ impl<'a> ArmCheck<'a> {
                 .map(|l| levers(robot, spheres.links(), 0, l))
                 .collect(),
             spans: true,
+            self_margin: 0.0,
         })
+    }
+
+    /// With a clearance between the robot's own links: a configuration is valid only when
+    /// every checked link pair keeps more than `margin` (m) apart, as
+    /// [`RobotCollision::self_collision_within`] checks it (the scene's margin is the
+    /// [`EdgeScene`]'s). A negative or NaN margin counts as 0, the default: touching is the
+    /// only self-collision. Paths planned with no self-clearance may graze the robot between
+    /// checked states, and a real arm tracks its path with some error.
+    pub fn with_self_margin(mut self, margin: f64) -> Self {
+        self.self_margin = if margin > 0.0 { margin } else { 0.0 };
+        self
     }
 
     /// With `false`, [`ArmCheck::check_motion`] evaluates every state it visits instead of
@@ -355,23 +370,32 @@ impl<'a> ArmCheck<'a> {
     /// below [`BOUND_CUTOFF`]) decides and becomes a bound.
     fn pair_free(&self, p: usize, q: &[f64], at: Option<f64>, s: &mut StateScratch) -> bool {
         let (i, k) = self.spheres.checked_pairs()[p];
+        let margin = self.self_margin;
         let Some(t) = at else {
-            return self.spheres.pair_distance_bound(p, q) > CERTIFIED_GAP
-                || !self.collision.pair_touches(&s.poses, i, k);
+            if self.spheres.pair_distance_bound(p, q) > margin + CERTIFIED_GAP {
+                return true;
+            }
+            return if margin > 0.0 {
+                self.collision
+                    .pair_distance_below(&s.poses, i, k, margin + BOUND_CUTOFF)
+                    > margin
+            } else {
+                !self.collision.pair_touches(&s.poses, i, k)
+            };
         };
-        if s.bound.at(p, t, s.speed[p]) > Some(CERTIFIED_GAP) {
+        if s.bound.at(p, t, s.speed[p]) > Some(margin + CERTIFIED_GAP) {
             return true;
         }
         let table = self.spheres.pair_distance_bound(p, q);
-        if table > CERTIFIED_GAP {
+        if table > margin + CERTIFIED_GAP {
             s.bound.push(p, t, table);
             return true;
         }
         let d = self
             .collision
-            .pair_distance_below(&s.poses, i, k, BOUND_CUTOFF);
+            .pair_distance_below(&s.poses, i, k, margin + BOUND_CUTOFF);
         s.bound.push(p, t, d);
-        d > 0.0
+        d > margin
     }
 
     /// Whether link `s.links[m]` (spheres reaching the obstacles flagged in `s.reached[m]`)
@@ -467,8 +491,10 @@ impl<'a> ArmCheck<'a> {
             let (Some((ci, ri)), Some((cj, rj))) = (ball(i), ball(j)) else {
                 continue;
             };
-            if (ci - cj).norm() <= ri + rj + f64::from(SPHERE_SLACK)
-                && self.spheres.pair_meets(&s.spheres, i, j)
+            if (ci - cj).norm() <= ri + rj + f64::from(SPHERE_SLACK) + self.self_margin
+                && self
+                    .spheres
+                    .pair_within(&s.spheres, i, j, self.self_margin as f32)
             {
                 s.pairs.push(p);
             }

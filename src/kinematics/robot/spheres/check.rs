@@ -221,10 +221,17 @@ impl RobotSpheres {
     /// Whether a sphere of link `i` and a sphere of link `j` in `data` are within the sum of
     /// their radii plus [`SPHERE_SLACK`] (`false` if either link has no spheres placed).
     pub fn pair_meets(&self, data: &SphereData, i: usize, j: usize) -> bool {
+        self.pair_within(data, i, j, 0.0)
+    }
+
+    /// [`RobotSpheres::pair_meets`] with a clearance: whether a sphere of link `i` and a
+    /// sphere of link `j` are within the sum of their radii plus [`SPHERE_SLACK`] plus
+    /// `margin` (m). `false` means the links' exact shapes keep more than `margin` apart.
+    pub(super) fn pair_within(&self, data: &SphereData, i: usize, j: usize, margin: f32) -> bool {
         let (Some(&(si, ni)), Some(&(sj, nj))) = (data.links.get(i), data.links.get(j)) else {
             return false;
         };
-        let slack = f32x8::splat(SPHERE_SLACK);
+        let slack = f32x8::splat(SPHERE_SLACK + margin);
         for a in si..si + ni {
             let (ax, ay, az) = (
                 f32x8::splat(data.x[a]),

@@ -10,7 +10,8 @@
 //! `|t' − t|·link_speed[l] < D_l` for every link and `|t' − t|·speed[p] < D_p` for every
 //! pair, each link still keeps more than the margin from the scene and each pair is apart:
 //! the state at `t'` is free, exactly as the exact check would find it. So the discrete check
-//! of the motion gives the same answer when it skips such states.
+//! of the motion gives the same answer when it skips such states. With a self-clearance
+//! ([`ArmCheck::with_self_margin`]) a pair's `D_p` is its distance less that clearance.
 //!
 //! **Lower bounds.** For a link whose spheres reach no obstacle, the least sphere clearance
 //! ([`SphereObstacles::link_clearance`]: the spheres cover the exact shapes, the obstacles'
@@ -54,6 +55,8 @@ impl ArmCheck<'_> {
             if v <= 0.0 {
                 continue;
             }
+            // The pair's distance bound less the clearance it must keep.
+            let margin = self.self_margin;
             let d = if s.pairs.contains(&p) {
                 s.bound.at(p, t, v).unwrap_or(0.0)
             } else {
@@ -62,13 +65,13 @@ impl ArmCheck<'_> {
                     _ => f64::INFINITY,
                 };
                 // The balls' gap alone keeps the span: the spheres need not be compared.
-                if ball - CERTIFIED_GAP >= span * v {
+                if ball - margin - CERTIFIED_GAP >= span * v {
                     ball
                 } else {
                     ball.max(f64::from(self.spheres.pair_clearance(&s.spheres, i, k)))
                 }
             };
-            span = narrowed(span, d, v);
+            span = narrowed(span, d - margin, v);
             if span < step {
                 return 0;
             }
