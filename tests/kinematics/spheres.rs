@@ -43,6 +43,48 @@ fn robots() -> Vec<(&'static str, RobotModel)> {
     ]
 }
 
+/// A random straight motion from a configuration `exact` accepts (at most `tries` drawn):
+/// its start, its end a random direction away, and its joint-space length drawn from
+/// `lengths`; `None` when no start drawn is accepted.
+fn motion_from_free(
+    robot: &RobotModel,
+    rng: &mut ChaCha8Rng,
+    exact: &dyn Fn(&[f64]) -> bool,
+    lengths: std::ops::RangeInclusive<f64>,
+    tries: usize,
+) -> Option<(DVector<f64>, DVector<f64>, f64)> {
+    for _ in 0..tries {
+        let a = random_arm(robot, rng);
+        if !exact(a.as_slice()) {
+            continue;
+        }
+        let step = DVector::from_fn(robot.dof(), |_, _| rng.random_range(-1.0..=1.0));
+        let length = rng.random_range(lengths);
+        let b = &a + step.normalize() * length;
+        return Some((a, b, length));
+    }
+    None
+}
+
+/// The documented states of the discrete motion check from `a` to `b` (joint-space length
+/// `length`) all pass `exact`: `b` and `a + (j / n)·(b − a)`, `0 < j < n`,
+/// `n = ⌈length / resolution⌉`, recomputed here independently of the check.
+fn every_state(
+    a: &[f64],
+    b: &[f64],
+    length: f64,
+    resolution: f64,
+    exact: &dyn Fn(&[f64]) -> bool,
+) -> bool {
+    let n = (length / resolution).ceil() as usize;
+    exact(b)
+        && (1..n).all(|j| {
+            let t = j as f64 / n as f64;
+            let q: Vec<f64> = a.iter().zip(b).map(|(x, y)| x + (y - x) * t).collect();
+            exact(&q)
+        })
+}
+
 /// A floor slab (top at z = 0), a thin shelf, a post, a ball and a tilted box around a robot
 /// at the origin, within the arms' reach.
 fn scene() -> SceneModel {
@@ -414,24 +456,11 @@ fn arm_motion_check_matches_the_exact_check_of_its_states() {
         let mut rng = ChaCha8Rng::seed_from_u64(37);
         let (mut accepted, mut rejected) = (0, 0);
         while accepted + rejected < 300 {
-            let a = random_arm(&robot, &mut rng);
-            if !exact(a.as_slice()) {
+            let Some((a, b, length)) = motion_from_free(&robot, &mut rng, &exact, 0.05..=0.8, 1)
+            else {
                 continue;
-            }
-            let step = DVector::from_fn(robot.dof(), |_, _| rng.random_range(-1.0..=1.0));
-            let length = rng.random_range(0.05..=0.8);
-            let b = &a + step.normalize() * length;
-            let n = (length / RESOLUTION).ceil() as usize;
-            let expected = exact(b.as_slice())
-                && (1..n).all(|j| {
-                    let t = j as f64 / n as f64;
-                    let q: Vec<f64> = a
-                        .iter()
-                        .zip(b.iter())
-                        .map(|(x, y)| x + (y - x) * t)
-                        .collect();
-                    exact(&q)
-                });
+            };
+            let expected = every_state(a.as_slice(), b.as_slice(), length, RESOLUTION, &exact);
             let got = check.check_motion(a.as_slice(), b.as_slice(), RESOLUTION);
             assert_eq!(got, expected, "{name}: {a:?} -> {b:?}");
             if got {
@@ -493,24 +522,11 @@ fn arm_motion_spans_keep_the_exact_answer() {
         let mut rng = ChaCha8Rng::seed_from_u64(41);
         let (mut accepted, mut rejected) = (0, 0);
         while accepted + rejected < 120 {
-            let a = random_arm(&robot, &mut rng);
-            if !exact(a.as_slice()) {
+            let Some((a, b, length)) = motion_from_free(&robot, &mut rng, &exact, 0.3..=3.0, 1)
+            else {
                 continue;
-            }
-            let step = DVector::from_fn(robot.dof(), |_, _| rng.random_range(-1.0..=1.0));
-            let length = rng.random_range(0.3..=3.0);
-            let b = &a + step.normalize() * length;
-            let n = (length / RESOLUTION).ceil() as usize;
-            let expected = exact(b.as_slice())
-                && (1..n).all(|j| {
-                    let t = j as f64 / n as f64;
-                    let q: Vec<f64> = a
-                        .iter()
-                        .zip(b.iter())
-                        .map(|(x, y)| x + (y - x) * t)
-                        .collect();
-                    exact(&q)
-                });
+            };
+            let expected = every_state(a.as_slice(), b.as_slice(), length, RESOLUTION, &exact);
             let other = random_arm(&robot, &mut rng);
             let _ = check.is_valid_with(other.as_slice(), &mut scratch);
             let end = check.is_valid_with(b.as_slice(), &mut scratch);
@@ -590,28 +606,13 @@ fn arm_check_with_a_self_margin_gives_the_exact_answer() {
         let (mut accepted, mut rejected) = (0, 0);
         // Starts drawn until 100 motions (a robot whose links sit close together has few
         // configurations clear by the margin).
-        for _ in 0..20_000 {
-            if accepted + rejected == 100 {
+        while accepted + rejected < 100 {
+            let Some((a, b, length)) =
+                motion_from_free(&robot, &mut rng, &exact, 0.3..=2.0, 20_000)
+            else {
                 break;
-            }
-            let a = random_arm(&robot, &mut rng);
-            if !exact(a.as_slice()) {
-                continue;
-            }
-            let step = DVector::from_fn(robot.dof(), |_, _| rng.random_range(-1.0..=1.0));
-            let length = rng.random_range(0.3..=2.0);
-            let b = &a + step.normalize() * length;
-            let n = (length / RESOLUTION).ceil() as usize;
-            let expected = exact(b.as_slice())
-                && (1..n).all(|j| {
-                    let t = j as f64 / n as f64;
-                    let q: Vec<f64> = a
-                        .iter()
-                        .zip(b.iter())
-                        .map(|(x, y)| x + (y - x) * t)
-                        .collect();
-                    exact(&q)
-                });
+            };
+            let expected = every_state(a.as_slice(), b.as_slice(), length, RESOLUTION, &exact);
             let got = check.check_motion(a.as_slice(), b.as_slice(), RESOLUTION);
             assert_eq!(got, expected, "{name}: {a:?} -> {b:?}");
             if got {
