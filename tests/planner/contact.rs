@@ -7,7 +7,9 @@
 //! shapes, any part, the grasped part included), in any phase; the fingers never touch
 //! anything else, and touch nothing at all in the free (OMPL) phases. While the fingers may
 //! touch the grasped part, they must not penetrate its *front* (its collision shapes that do not
-//! strictly contain the handle's grasp point) by more than [`MAX_FRONT_DEPTH`].
+//! strictly contain the handle's grasp point) by more than [`MAX_FRONT_DEPTH`]. The robot never
+//! touches itself: shapes on links that move relative to each other touch only where the
+//! robot's SRDF has a `disable_collisions` element for their links (read here by text search).
 //!
 //! Nothing here shares code with the planner's collision checking: the robot's collision
 //! geometry is parsed from the URDF with urdf-rs and built as parry shapes by this file (fixed
@@ -54,6 +56,11 @@ const TOUCH: f64 = 1e-9;
 const ROBOT_URDF: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/robots/kinova_gen3_mobile.urdf"
+);
+/// The robot's SRDF, read by this file (its `disable_collisions` pairs, by text search).
+const ROBOT_SRDF: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/robots/kinova_gen3_mobile.srdf"
 );
 /// The link and collision names of the gripper's contact shapes.
 const FINGER_LINK: &str = "robotiq_2f_140";
@@ -285,6 +292,8 @@ enum Anchor {
 /// One collision element of the robot.
 struct RobotShape {
     name: String,
+    /// The URDF link carrying it.
+    link: String,
     contact: bool,
     anchor: Anchor,
     anchor_from_shape: Isometry3<f64>,
@@ -315,6 +324,10 @@ pub(super) struct RobotGeometry {
     /// Whether the collision element `label` (its name, else `#index`) of `link` is contact
     /// geometry.
     pub contact: fn(&str, &str) -> bool,
+    /// The robot's SRDF: its `disable_collisions` link pairs are the pairs that may touch;
+    /// every other pair of shapes on links that move relative to each other must not. `None`:
+    /// self-contact is not re-checked.
+    pub srdf: Option<PathBuf>,
 }
 
 impl RobotGeometry {
@@ -326,6 +339,7 @@ impl RobotGeometry {
             packages: Vec::new(),
             frozen: Vec::new(),
             contact: |link, label| link == FINGER_LINK && FINGERS.contains(&label),
+            srdf: Some(PathBuf::from(ROBOT_SRDF)),
         }
     }
 
@@ -388,6 +402,45 @@ fn joint_motion(joint: &urdf_rs::Joint, q: f64) -> Isometry3<f64> {
     }
 }
 
+/// The pairs of robot shapes (indices into `robot`) that must not touch: on links that move
+/// relative to each other (different anchors), and not exempt by a `disable_collisions`
+/// element of the geometry's SRDF (read here by text search, either link order). Empty
+/// without an SRDF.
+fn self_pairs(robot: &[RobotShape], geometry: &RobotGeometry) -> Vec<(usize, usize)> {
+    let Some(srdf) = &geometry.srdf else {
+        return Vec::new();
+    };
+    let text = std::fs::read_to_string(srdf).expect("the SRDF is readable");
+    let attribute = |element: &str, name: &str| -> Option<String> {
+        let start = element.find(&format!("{name}=\""))? + name.len() + 2;
+        let len = element[start..].find('"')?;
+        Some(element[start..start + len].to_owned())
+    };
+    let exempt: Vec<(String, String)> = text
+        .split("<disable_collisions")
+        .skip(1)
+        .filter_map(|rest| {
+            let element = &rest[..rest.find('>')?];
+            Some((attribute(element, "link1")?, attribute(element, "link2")?))
+        })
+        .collect();
+    let exempt_pair = |a: &str, b: &str| {
+        exempt
+            .iter()
+            .any(|(x, y)| (x == a && y == b) || (x == b && y == a))
+    };
+    let mut pairs = Vec::new();
+    for i in 0..robot.len() {
+        for j in i + 1..robot.len() {
+            let (a, b) = (&robot[i], &robot[j]);
+            if a.anchor != b.anchor && !exempt_pair(&a.link, &b.link) {
+                pairs.push((i, j));
+            }
+        }
+    }
+    pairs
+}
+
 /// The robot's collision shapes, from its URDF: each anchored to the base or to the Pinocchio
 /// joint whose child link carries it (through fixed and frozen joints).
 fn robot_shapes(pin: &Model, geometry: &RobotGeometry) -> Vec<RobotShape> {
@@ -437,6 +490,7 @@ fn robot_shapes(pin: &Model, geometry: &RobotGeometry) -> Vec<RobotShape> {
                 };
                 out.push(RobotShape {
                     name,
+                    link: link.name.clone(),
                     contact,
                     anchor,
                     anchor_from_shape: anchor_from_link * urdf_pose(&c.origin),
@@ -574,6 +628,8 @@ struct Checker<'a> {
     pin: &'a Model,
     data: Data,
     robot: Vec<RobotShape>,
+    /// The robot shape pairs that must not touch each other (see [`self_pairs`]).
+    self_pairs: Vec<(usize, usize)>,
     bodies: Vec<SceneBody>,
     scene: SceneData,
     /// Per body, for the current step: whether it belongs to the grasped part.
@@ -598,11 +654,13 @@ impl<'a> Checker<'a> {
         let pin = planner.robot().pinocchio();
         let bodies = scene_bodies(model);
         let n = bodies.len();
+        let robot = robot_shapes(pin, geometry);
         Checker {
             model,
             pin,
             data: Data::new(pin).expect("Pinocchio data"),
-            robot: robot_shapes(pin, geometry),
+            self_pairs: self_pairs(&robot, geometry),
+            robot,
             bodies,
             scene: SceneData::new(model),
             grasped: vec![false; n],
@@ -692,7 +750,7 @@ impl<'a> Checker<'a> {
         if s.contact {
             self.report.contact_samples += 1;
         }
-        let violation = |r: &RobotShape, b: &SceneBody, breach: Breach| Violation {
+        let violation_with = |r: &RobotShape, body: &str, breach: Breach| Violation {
             step: s.step,
             phase: s.phase,
             at: s.at,
@@ -700,9 +758,31 @@ impl<'a> Checker<'a> {
             config: s.config.to_vec(),
             scene_value: s.scene_value,
             robot_shape: r.name.clone(),
-            body: b.name.clone(),
+            body: body.to_owned(),
             breach,
         };
+        let violation =
+            |r: &RobotShape, b: &SceneBody, breach: Breach| violation_with(r, &b.name, breach);
+        // The robot against itself: no pair the SRDF does not exempt may touch.
+        for &(i, j) in &self.self_pairs {
+            let (a, b) = (&self.robot[i], &self.robot[j]);
+            let gap =
+                (placed.centers[i] - placed.centers[j]).norm() - a.solid.radius - b.solid.radius;
+            if gap >= TOUCH {
+                continue;
+            }
+            let d = query::distance(
+                &placed.poses[i],
+                a.solid.shape.as_ref(),
+                &placed.poses[j],
+                b.solid.shape.as_ref(),
+            )
+            .expect("parry supports the pair")
+            .distance;
+            if d < TOUCH {
+                return Err(violation_with(a, &b.name, Breach::Touch { distance: d }));
+            }
+        }
         for (ri, r) in self.robot.iter().enumerate() {
             for (bi, b) in self.bodies.iter().enumerate() {
                 // Broad phase: the gap between the bounding spheres bounds the distance below.
@@ -1210,6 +1290,49 @@ fn corrupted_drawer_plans_are_rejected() {
     assert!(v.at > n - 2.0, "only the last segment changed: {v}");
 
     // (iii), re-checking with another grasped part, is skipped: the drawer scene has one part.
+
+    // (iv) The approach starting from a configuration where the robot folds into itself: the
+    // first such configuration of a seeded draw within the joint limits, found with the
+    // crate's own self-collision check (the generator; the verdict is the re-checker's own
+    // FK, SRDF reading and parry distances). The re-check must name two robot shapes.
+    use kinscene::kinematics::robot::{RobotCollision, RobotConfig};
+    use rand::{Rng, SeedableRng};
+    let robot = planner.robot();
+    let collision = RobotCollision::new(robot).expect("the robot's collision model");
+    let (lower, upper) = robot.arm_bounds();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+    let folded = (0..10_000)
+        .map(|_| {
+            DVector::from_fn(robot.dof(), |i, _| {
+                rng.random_range(lower[i].max(-3.2)..=upper[i].min(3.2))
+            })
+        })
+        .find(|arm| {
+            let config = RobotConfig {
+                base: plan.steps[0].base,
+                arm: arm.clone(),
+            };
+            let poses = robot.link_poses(&config).expect("poses");
+            collision.self_collision(&poses).is_some()
+        })
+        .expect("some configuration folds the arm into the robot");
+    // The approach re-timed through its waypoints with the first one replaced (a timed path
+    // samples its own profile, so its waypoints alone cannot be edited).
+    let mut corrupted = plan.clone();
+    let approach = &mut corrupted.steps[0].approach;
+    let mut waypoints = approach.positions.clone();
+    waypoints[0] = folded.as_slice().to_vec();
+    let joints = robot.arm_joints();
+    let vmax: Vec<f64> = joints.iter().map(|j| j.max_velocity).collect();
+    let amax: Vec<f64> = joints.iter().map(|j| j.max_acceleration).collect();
+    *approach = kinscene::motion::timing::time_parameterise(&waypoints, &vmax, &amax, None)
+        .expect("the corrupted approach times");
+    let v = recheck(planner, model, &problem.start, &corrupted)
+        .expect_err("an approach from a self-colliding configuration");
+    eprintln!("self-colliding approach: {v}");
+    assert!(names.contains(&v.robot_shape), "{v}");
+    assert!(names.contains(&v.body), "the robot touches itself: {v}");
+    assert!(matches!(v.breach, Breach::Touch { .. }), "{v}");
 }
 
 #[test]

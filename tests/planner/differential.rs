@@ -265,6 +265,8 @@ fn tiago_opens_the_door_then_the_drawer_without_moving_sideways() {
         // grasped handle (a run with the fingers alone stopped at the first approach, the box
         // touching the door).
         contact: |link, _| tiago_hand(link),
+        // Self-contact is re-checked with the Gen3's SRDF only.
+        srdf: None,
     };
     let planner = HierarchicalPlanner::new(robot, PlannerSettings::default()).unwrap();
     let model = cabinet_with_door_and_drawer();
