@@ -38,50 +38,43 @@ impl ArmCheck<'_> {
         self.ctx.robot.link_poses(&cfg).ok()
     }
 
-    /// Whether `q` is free of self-collision and keeps `margin` from the scene. With the
-    /// sphere fast path: self-collision is the exact test of the link pairs whose spheres
-    /// meet, and the exact scene check runs only when some sphere reaches an obstacle.
+    /// Whether `q` is free of self-collision (keeping `self_margin` between checked links)
+    /// and keeps `margin` from the scene. With the sphere fast path: the exact scene check
+    /// runs only when some sphere reaches an obstacle, and without a self-clearance
+    /// self-collision is the exact test of the link pairs whose spheres meet.
     pub(super) fn valid(&self, q: &[f64]) -> bool {
         let ctx = self.ctx;
         let Some(poses) = self.poses(q) else {
             return false;
         };
-        let exact_scene = || {
-            ctx.collision
-                .scene_collision(&poses, ctx.model, self.data, self.exempt, self.margin)
-                .is_none()
-        };
-        if self.self_margin > 0.0 {
-            let self_free = ctx
-                .collision
-                .self_collision_within(&poses, self.self_margin)
-                .is_none();
-            return self_free && self.scene_free(&poses, exact_scene);
-        }
-        match (ctx.spheres, &self.obstacles) {
-            (Some(spheres), Some(obstacles)) => {
+        let placed = ctx
+            .spheres
+            .filter(|_| self.obstacles.is_some())
+            .map(|spheres| {
                 let mut placed = SphereData::default();
                 spheres.place(&poses, &mut placed);
-                spheres
-                    .self_collision_exact(&placed, ctx.collision, &poses)
-                    .is_none()
-                    && (obstacles.first_hit(&placed).is_none() || exact_scene())
-            }
-            _ => ctx.collision.self_collision(&poses).is_none() && exact_scene(),
-        }
-    }
-
-    /// Whether the robot at `poses` keeps the margin from the scene: the sphere broad phase
-    /// first where there is one, `exact` (parry) where a sphere reaches an obstacle.
-    fn scene_free(&self, poses: &[nalgebra::Isometry3<f64>], exact: impl FnOnce() -> bool) -> bool {
-        match (self.ctx.spheres, &self.obstacles) {
-            (Some(spheres), Some(obstacles)) => {
-                let mut placed = SphereData::default();
-                spheres.place(poses, &mut placed);
-                obstacles.first_hit(&placed).is_none() || exact()
-            }
-            _ => exact(),
-        }
+                (spheres, placed)
+            });
+        let self_free = match &placed {
+            _ if self.self_margin > 0.0 => ctx
+                .collision
+                .self_collision_within(&poses, self.self_margin)
+                .is_none(),
+            Some((spheres, placed)) => spheres
+                .self_collision_exact(placed, ctx.collision, &poses)
+                .is_none(),
+            None => ctx.collision.self_collision(&poses).is_none(),
+        };
+        let sphere_free = match (&placed, &self.obstacles) {
+            (Some((_, placed)), Some(obstacles)) => obstacles.first_hit(placed).is_none(),
+            _ => false,
+        };
+        self_free
+            && (sphere_free
+                || ctx
+                    .collision
+                    .scene_collision(&poses, ctx.model, self.data, self.exempt, self.margin)
+                    .is_none())
     }
 
     /// What the robot touches at `q`, with URDF names (`None` if it is valid).
@@ -105,6 +98,9 @@ impl ArmCheck<'_> {
         })
         .or_else(|| {
             // Apart, but within the self-clearance.
+            if self.self_margin <= 0.0 {
+                return None;
+            }
             let (i, j) = ctx
                 .collision
                 .self_collision_within(&poses, self.self_margin)?;
