@@ -77,7 +77,8 @@ impl ArmCheck<'_> {
                     .is_none())
     }
 
-    /// What the robot touches at `q`, with URDF names (`None` if it is valid).
+    /// What the robot touches at `q`, with URDF names (`None` if it is valid): two links
+    /// within the self-clearance, or a link within the margin of the scene.
     pub(super) fn hit(&self, q: &[f64]) -> Option<Contact> {
         let ctx = self.ctx;
         let Some(poses) = self.poses(q) else {
@@ -91,24 +92,14 @@ impl ArmCheck<'_> {
             self.data,
             self.exempt,
             self.margin,
+            self.self_margin,
         )
         .map(|obstacle| Contact::Touches {
+            margin: match obstacle {
+                Obstacle::SelfCollision(..) => self.self_margin,
+                Obstacle::Scene { .. } => self.margin,
+            },
             obstacle,
-            margin: self.margin,
-        })
-        .or_else(|| {
-            // Apart, but within the self-clearance.
-            if self.self_margin <= 0.0 {
-                return None;
-            }
-            let (i, j) = ctx
-                .collision
-                .self_collision_within(&poses, self.self_margin)?;
-            let name = |l: usize| ctx.robot.links()[l].name.clone();
-            Some(Contact::Touches {
-                obstacle: Obstacle::SelfCollision(i, j, [name(i), name(j)]),
-                margin: self.self_margin,
-            })
         })
     }
 

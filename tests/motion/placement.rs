@@ -203,8 +203,17 @@ fn recheck(
                 arm: q.clone(),
             })
             .unwrap();
-        if let Some(pair) = f.collision.self_collision(&poses) {
-            problems.push(format!("waypoint {k}: self collision {pair:?}"));
+        // The links keep the self-margin from each other: all of it, as the Gen3's stow (the
+        // placement's resting configuration) keeps 20.9 mm between its closest checked links
+        // (ForeArm_Link, SphericalWrist2_Link), over twice the default 5 mm.
+        if let Some(pair) = f
+            .collision
+            .self_collision_within(&poses, manipulation.self_margin)
+        {
+            problems.push(format!(
+                "waypoint {k}: links {pair:?} within {} m of each other",
+                manipulation.self_margin
+            ));
         }
         if let Some(c) = f.collision.scene_collision(
             &poses,
@@ -561,6 +570,12 @@ fn bad_input_gives_typed_errors() {
         Err(PlacementError::InvalidSetting(s)) if s.field == "manipulation.max_joint_jump"
     ));
     bad.manipulation.max_joint_jump = 0.35;
+    bad.manipulation.self_margin = f64::NAN;
+    assert!(matches!(
+        run(drawer.0, drawer.1, 0.3, ROBOT_FROM, &bad),
+        Err(PlacementError::InvalidSetting(s)) if s.field == "manipulation.self_margin"
+    ));
+    bad.manipulation.self_margin = 0.005;
     bad.sampling.max_draws = 1;
     assert!(matches!(
         run(drawer.0, drawer.1, 0.3, ROBOT_FROM, &bad),

@@ -82,6 +82,11 @@ pub(super) enum Breach {
         /// The penetration depth (m).
         depth: f64,
     },
+    /// Two robot shapes closer than [`RobotGeometry::grasp_self_clearance`] while grasping.
+    SelfClearance {
+        /// The distance (m).
+        distance: f64,
+    },
 }
 
 /// The phases of a step, in order.
@@ -162,6 +167,14 @@ impl fmt::Display for Violation {
                 depth * 1e3,
                 MAX_FRONT_DEPTH * 1e3
             ),
+            Breach::SelfClearance { distance } => write!(
+                f,
+                "robot shapes {} and {} are {:.2} mm apart while grasping (closer than the \
+                 robot's grasp_self_clearance)",
+                self.robot_shape,
+                self.body,
+                distance * 1e3,
+            ),
         }
     }
 }
@@ -179,19 +192,32 @@ pub(super) struct Report {
     pub min_clearance_between: String,
     /// Deepest penetration (m) of a finger into the grasped part's front (0 if none).
     pub max_front_depth: f64,
+    /// Smallest distance (m) between two robot shapes that must not touch, exact where it is
+    /// below [`SELF_EXACT`] (that value otherwise), in the phases under the grasp rule
+    /// (pre-grasp to post-grasp) and in the free ones.
+    pub min_self_clearance: [f64; 2],
+    /// Where, for each: `shape vs shape (step, phase)`.
+    pub min_self_clearance_between: [String; 2],
 }
+
+/// The self-distance below which [`Report::min_self_clearance`] is exact (m).
+const SELF_EXACT: f64 = 0.05;
 
 impl fmt::Display for Report {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
             "{} samples ({} in contact parts); min clearance {:.4} m ({}); deepest finger in a \
-             front {:.2} mm",
+             front {:.2} mm; min self-clearance grasping {:.4} m ({}), free {:.4} m ({})",
             self.samples,
             self.contact_samples,
             self.min_clearance,
             self.min_clearance_between,
-            self.max_front_depth * 1e3
+            self.max_front_depth * 1e3,
+            self.min_self_clearance[0],
+            self.min_self_clearance_between[0],
+            self.min_self_clearance[1],
+            self.min_self_clearance_between[1],
         )
     }
 }
@@ -328,6 +354,10 @@ pub(super) struct RobotGeometry {
     /// every other pair of shapes on links that move relative to each other must not. `None`:
     /// self-contact is not re-checked.
     pub srdf: Option<PathBuf>,
+    /// The least distance (m) two robot shapes that must not touch keep while grasping (the
+    /// straight approach from the pre-grasp, the manipulation, the straight retreat to the
+    /// post-grasp); 0: only touching is a breach.
+    pub grasp_self_clearance: f64,
 }
 
 impl RobotGeometry {
@@ -340,6 +370,11 @@ impl RobotGeometry {
             frozen: Vec::new(),
             contact: |link, label| link == FINGER_LINK && FINGERS.contains(&label),
             srdf: Some(PathBuf::from(ROBOT_SRDF)),
+            // The planner's checked states keep half the placement's self-margin (5 mm at
+            // most, capped by half the Gen3 stow's 20.9 mm): 2.5 mm. This file samples
+            // more densely than the planner checks, so it may find a little less between
+            // them; 2 mm is what it asks.
+            grasp_self_clearance: 0.002,
         }
     }
 
@@ -630,6 +665,8 @@ struct Checker<'a> {
     robot: Vec<RobotShape>,
     /// The robot shape pairs that must not touch each other (see [`self_pairs`]).
     self_pairs: Vec<(usize, usize)>,
+    /// [`RobotGeometry::grasp_self_clearance`].
+    grasp_self_clearance: f64,
     bodies: Vec<SceneBody>,
     scene: SceneData,
     /// Per body, for the current step: whether it belongs to the grasped part.
@@ -660,6 +697,7 @@ impl<'a> Checker<'a> {
             pin,
             data: Data::new(pin).expect("Pinocchio data"),
             self_pairs: self_pairs(&robot, geometry),
+            grasp_self_clearance: geometry.grasp_self_clearance,
             robot,
             bodies,
             scene: SceneData::new(model),
@@ -674,6 +712,8 @@ impl<'a> Checker<'a> {
                 contact_samples: 0,
                 min_clearance: f64::INFINITY,
                 min_clearance_between: String::new(),
+                min_self_clearance: [SELF_EXACT; 2],
+                min_self_clearance_between: Default::default(),
                 max_front_depth: 0.0,
             },
         }
@@ -768,7 +808,13 @@ impl<'a> Checker<'a> {
             let (a, b) = (&self.robot[i], &self.robot[j]);
             let gap =
                 (placed.centers[i] - placed.centers[j]).norm() - a.solid.radius - b.solid.radius;
-            if gap >= TOUCH {
+            let phase = usize::from(!s.contact);
+            let wanted = if s.contact {
+                self.grasp_self_clearance
+            } else {
+                0.0
+            };
+            if gap >= TOUCH.max(wanted) && gap >= self.report.min_self_clearance[phase] {
                 continue;
             }
             let d = query::distance(
@@ -781,6 +827,19 @@ impl<'a> Checker<'a> {
             .distance;
             if d < TOUCH {
                 return Err(violation_with(a, &b.name, Breach::Touch { distance: d }));
+            }
+            let wanted = self.grasp_self_clearance;
+            if s.contact && d < wanted {
+                return Err(violation_with(
+                    a,
+                    &b.name,
+                    Breach::SelfClearance { distance: d },
+                ));
+            }
+            if d < self.report.min_self_clearance[phase] {
+                self.report.min_self_clearance[phase] = d;
+                self.report.min_self_clearance_between[phase] =
+                    format!("{} vs {} (step {}, {})", a.name, b.name, s.step, s.phase);
             }
         }
         for (ri, r) in self.robot.iter().enumerate() {

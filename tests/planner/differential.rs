@@ -267,6 +267,7 @@ fn tiago_opens_the_door_then_the_drawer_without_moving_sideways() {
         contact: |link, _| tiago_hand(link),
         // Self-contact is re-checked with the Gen3's SRDF only.
         srdf: None,
+        grasp_self_clearance: 0.0,
     };
     let planner = HierarchicalPlanner::new(robot, PlannerSettings::default()).unwrap();
     let model = cabinet_with_door_and_drawer();

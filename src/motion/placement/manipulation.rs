@@ -72,13 +72,43 @@ pub(crate) struct Prepared<'a> {
     /// waypoints of a grasp along the normal, but not between them (the tool tilts a little
     /// along a joint-space segment) nor beside the axis of a grasp turned about a bar.
     pub front: Vec<usize>,
+    /// The clearance the robot's links keep from each other
+    /// ([`ManipulationSettings::self_margin`] capped by the resting configuration's, see
+    /// [`rest_self_margin`]).
+    pub self_margin: f64,
+}
+
+/// The self-clearance (m) the configurations of a manipulation keep: `wanted`, but at most
+/// half the least clearance between the checked link pairs at `rest` (the arm's resting
+/// configuration), so that a robot whose links sit close together at rest still has
+/// configurations that keep it.
+///
+/// # Errors
+/// [`PlacementError::Robot`] for a configuration of the wrong size.
+pub(crate) fn rest_self_margin(
+    problem: &PlacementProblem<'_>,
+    wanted: f64,
+    rest: &DVector<f64>,
+) -> Result<f64, PlacementError> {
+    if wanted <= 0.0 {
+        return Ok(0.0);
+    }
+    let poses = problem.robot.link_poses(&RobotConfig {
+        base: [0.0; 3],
+        arm: rest.clone(),
+    })?;
+    let at_rest = problem.collision.self_clearance(&poses, 2.0 * wanted);
+    Ok(wanted.min(0.5 * at_rest).max(0.0))
 }
 
 impl<'a> Prepared<'a> {
+    /// `motion` prepared; the links keep `self_margin` from each other (the value of
+    /// [`rest_self_margin`]).
     pub(crate) fn new(
         problem: PlacementProblem<'a>,
         motion: &'a JointMotion,
         rotation: GraspRotation,
+        self_margin: f64,
     ) -> Result<Prepared<'a>, PlacementError> {
         let model = problem.model;
         let part = model
@@ -121,11 +151,12 @@ impl<'a> Prepared<'a> {
             scene,
             lower,
             upper,
+            self_margin,
         })
     }
 
-    /// The first obstacle of the robot at `(base, q)` with the scene in `data`: self
-    /// collision; any link within `margin` of the scene under the grasp contact rule (only the
+    /// The first obstacle of the robot at `(base, q)` with the scene in `data`: two links
+    /// within [`Prepared::self_margin`] of each other; any link within `margin` of the scene under the grasp contact rule (only the
     /// gripper's contact shapes may touch the moving parts, see [`Exempt::Grasp`]); the base
     /// links within `margin` of the moving parts (which the base must not be in the way of);
     /// a contact shape touching the handle's part's front.
@@ -142,7 +173,16 @@ impl<'a> Prepared<'a> {
             arm: q.clone(),
         })?;
         let exempt = Exempt::Grasp(&self.moving);
-        if let Some(o) = Obstacle::at(p.robot, p.collision, p.model, &poses, data, exempt, margin) {
+        if let Some(o) = Obstacle::at(
+            p.robot,
+            p.collision,
+            p.model,
+            &poses,
+            data,
+            exempt,
+            margin,
+            self.self_margin,
+        ) {
             return Ok(Some(o));
         }
         let part = self.motion.handle.part();

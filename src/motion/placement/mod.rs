@@ -15,7 +15,8 @@
 //!    is *reached* when IK converged, the robot's forward kinematics puts the tool on the
 //!    grasp frame within [`ManipulationSettings`]' tolerances, the joints are within their
 //!    limits, no joint moved more than `max_joint_jump` from the previous reached waypoint, the
-//!    robot is free of self-collision and keeps `margin` from the scene — the scene at the
+//!    robot's links keep `self_margin` from each other (capped by half the clearance of the
+//!    stow, or of the seed without one) and `margin` from the scene — the scene at the
 //!    part's value at that waypoint, the grasped part and its descendants excepted for the
 //!    arm but not for the base links, which must not be in the moving part's way — and the
 //!    same holds along the straight joint-space segment from the previous reached waypoint
@@ -110,6 +111,7 @@ use crate::kinematics::ik::IkSolver;
 use crate::kinematics::robot::{RobotCollision, RobotModel};
 use crate::scene::collision::handle_bar_axis;
 use crate::scene::{HandleId, JointId, PartId, SceneModel, State};
+pub(crate) use manipulation::rest_self_margin;
 use manipulation::{Cutoff, Prepared};
 use sampled::Stop;
 
@@ -243,7 +245,8 @@ pub fn plan_manipulation(
         return Err(PlacementError::NonFinite { what: "base" });
     }
     check_seed(problem.robot, seed)?;
-    let prepared = Prepared::new(problem, motion, rotation)?;
+    let self_margin = rest_self_margin(&problem, settings.self_margin, seed)?;
+    let prepared = Prepared::new(problem, motion, rotation, self_margin)?;
     prepared.plan(base, seed, settings, Cutoff::None)
 }
 
@@ -347,12 +350,14 @@ fn place_motion(
     termination: &Termination<'_>,
 ) -> Result<PlacementOutcome, PlacementError> {
     let start = Instant::now();
-    let mut prepared = Prepared::new(problem, &motion, settings.grasp)?;
-    prepared.termination = termination.capped(settings.sampling.budget);
     let seed = problem.robot.neutral();
     if let Some(stow) = &settings.stow {
         check_arm(problem.robot, stow, "stow")?;
     }
+    let rest = settings.stow.as_ref().unwrap_or(&seed);
+    let self_margin = rest_self_margin(&problem, settings.manipulation.self_margin, rest)?;
+    let mut prepared = Prepared::new(problem, &motion, settings.grasp, self_margin)?;
+    prepared.termination = termination.capped(settings.sampling.budget);
     let sampled = sampled::sample(
         &prepared,
         robot_from,

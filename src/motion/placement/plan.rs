@@ -37,9 +37,12 @@ pub enum Obstacle {
 }
 
 impl Obstacle {
-    /// What the robot at `link_poses` (world from link) touches, named: the first
-    /// self-colliding link pair, else the first link within `margin` of the scene in `data`
-    /// under `exempt` ([`RobotCollision::scene_collision`]); `None` if it is free.
+    /// What the robot at `link_poses` (world from link) touches, named: the first checked link
+    /// pair within `self_margin` of each other
+    /// ([`RobotCollision::self_collision_within`]), else the first link within `margin` of
+    /// the scene in `data` under `exempt` ([`RobotCollision::scene_collision`]); `None` if it
+    /// is free.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn at(
         robot: &RobotModel,
         collision: &RobotCollision,
@@ -48,9 +51,10 @@ impl Obstacle {
         data: &SceneData,
         exempt: Exempt<'_>,
         margin: f64,
+        self_margin: f64,
     ) -> Option<Obstacle> {
         let name = |l: usize| robot.links()[l].name.clone();
-        if let Some((i, j)) = collision.self_collision(link_poses) {
+        if let Some((i, j)) = collision.self_collision_within(link_poses, self_margin) {
             return Some(Obstacle::SelfCollision(i, j, [name(i), name(j)]));
         }
         collision

@@ -75,9 +75,15 @@ pub struct ManipulationSettings {
     /// segment (and the part's value, linearly) is checked at steps of at most this much in
     /// every joint (rad or m), > 0. Default 0.05.
     pub segment_resolution: f64,
-    /// Clearance (m) the robot must keep from the scene (and itself is checked without one),
-    /// >= 0. Default 0.005.
+    /// Clearance (m) the robot must keep from the scene, >= 0. Default 0.005.
     pub margin: f64,
+    /// Clearance (m) the robot's checked link pairs must keep from each other at every
+    /// waypoint and along the segments between them, >= 0; at most half the least clearance
+    /// the arm's resting configuration has (the stow, else the seed), so that a robot whose
+    /// links sit close together at rest keeps what it can. A real arm tracks its
+    /// configurations with some error; with no clearance a planned posture may press one link
+    /// against another. Default 0.005.
+    pub self_margin: f64,
     /// Largest distance (m) of the tool origin from the grasp point for a waypoint to count as
     /// reached, > 0. Default 1e-5 (the IK's default tolerance).
     pub position_tolerance: f64,
@@ -110,6 +116,7 @@ impl Default for ManipulationSettings {
             tracking_angle: 0.1,
             segment_resolution: 0.05,
             margin: 0.005,
+            self_margin: 0.005,
             position_tolerance: 1e-5,
             rotation_tolerance: 1e-4,
             roll_attempts: 4,
@@ -356,6 +363,7 @@ impl ManipulationSettings {
         positive("manipulation.tracking_angle", self.tracking_angle)?;
         positive("manipulation.segment_resolution", self.segment_resolution)?;
         non_negative("manipulation.margin", self.margin)?;
+        non_negative("manipulation.self_margin", self.self_margin)?;
         positive("manipulation.position_tolerance", self.position_tolerance)?;
         positive("manipulation.rotation_tolerance", self.rotation_tolerance)?;
         non_negative("manipulation.finger_clearance", self.finger_clearance)?;

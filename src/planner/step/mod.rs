@@ -44,6 +44,13 @@
 //! a grasp turned about a bar also keeps the fingers out of the part's front (each segment's
 //! placement chooses its own grasp angle, the regrasp may change it).
 //!
+//! **Self-clearance.** The robot's checked link pairs keep a clearance from each other in
+//! every phase: the placement's configurations keep
+//! [`ManipulationSettings::self_margin`](crate::motion::placement::ManipulationSettings::self_margin)
+//! (capped by half the stow's own), the re-checks under the contact rule half of that (they
+//! sample more finely than the placement), the free paths to and from the stow the arm's
+//! margin or half their ends' clearance.
+//!
 //! Every path is re-checked densely by
 //! [`first_invalid`](crate::motion::paths::first_invalid) at the planner's resolution, with
 //! the same collision model but none of OMPL's code (a disagreement is a failed step, not an

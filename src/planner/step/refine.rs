@@ -11,6 +11,7 @@ use crate::kinematics::robot::{BaseKind, Exempt, RobotConfig, SphereObstacles};
 use crate::motion::paths::{differential_drive, first_invalid, plan_base};
 use crate::motion::placement::{
     JointMotion, Obstacle, PlacementOutcome, PlacementProblem, PlacementSettings, place_and_plan,
+    rest_self_margin,
 };
 use crate::planner::arm_check::ArmCheck;
 use crate::planner::{PlannerError, StepFailure};
@@ -43,6 +44,13 @@ pub(super) struct StepRefinement<'c, 'a> {
     /// The arm's margin: the arm phases end or start at the placement's configurations, which
     /// keep the placement's margin, so the arm keeps no more than that.
     pub(super) arm_margin: f64,
+    /// The clearance the robot's links keep from each other in the phases under the grasp
+    /// rule (the straight approach and retreat, the manipulation): half the placement's
+    /// ([`ManipulationSettings::self_margin`] capped by the stow's), which its
+    /// configurations keep; the half allows for the finer re-check between them.
+    ///
+    /// [`ManipulationSettings::self_margin`]: crate::motion::placement::ManipulationSettings::self_margin
+    pub(super) grasp_self_margin: f64,
 }
 
 /// The placement of a step: the base pose and the arm's configurations (the straight approach
@@ -120,7 +128,19 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
         let model = ctx.model;
         let mut data = SceneData::new(model);
         forward_kinematics(model, &mut data, state)?;
+        let placement_self_margin = rest_self_margin(
+            &PlacementProblem {
+                robot: ctx.robot,
+                collision: ctx.collision,
+                ik: ctx.ik,
+                model,
+                state,
+            },
+            ctx.settings.placement.manipulation.self_margin,
+            ctx.settings.placement.stow.as_ref().unwrap_or(ctx.stow),
+        )?;
         Ok(StepRefinement {
+            grasp_self_margin: 0.5 * placement_self_margin,
             ctx,
             index,
             task_step,
@@ -256,7 +276,8 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
         }
     }
 
-    /// The arm check at the scene `data`, with `exempt`, exact only (parry for every state).
+    /// The arm check at the scene `data`, with `exempt`, exact only (parry for every state);
+    /// the links keep [`Self::grasp_self_margin`] from each other.
     pub(super) fn arm_exact<'d>(
         &'d self,
         base: [f64; 3],
@@ -272,7 +293,7 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
             data,
             exempt,
             margin: self.arm_margin,
-            self_margin: 0.0,
+            self_margin: self.grasp_self_margin,
             obstacles: None,
         }
     }

@@ -51,7 +51,8 @@
 //! moved within its step bounds (in the previous base frame) and,
 //! for a differential-drive base, no more than [`WholeBodySettings::sideways_tolerance`]
 //! across its heading (at the mean yaw of the two poses: the chord of the arc a differential
-//! drive follows), the robot is free of self-collision, every link keeps `margin` from the
+//! drive follows), the robot's links keep `self_margin` from each other (capped by half the
+//! seed's clearance), every link keeps `margin` from the
 //! scene under the grasp contact rule and the base links from the whole scene (the grasped part
 //! included); the same holds along the segment from the previous waypoint with the base pose,
 //! the arm and the part's joint interpolated together (steps of at most `segment_resolution`
@@ -69,7 +70,7 @@ use nalgebra::DVector;
 pub use check::sideways;
 pub use starts::{WholeBodyAttempt, WholeBodyStart, plan_whole_body_from_starts};
 
-use super::manipulation::Prepared;
+use super::manipulation::{Prepared, rest_self_margin};
 use super::plan::WaypointFailure;
 use super::{
     GraspRotation, JointMotion, ManipulationSettings, PlacementError, PlacementProblem, check_arm,
@@ -311,7 +312,8 @@ pub fn plan_whole_body(
         return Err(PlacementError::NonFinite { what: "start" });
     }
     check_arm(problem.robot, seed, "arm seed")?;
-    let prepared = Prepared::new(problem, motion, rotation)?;
+    let self_margin = rest_self_margin(&problem, manipulation.self_margin, seed)?;
+    let prepared = Prepared::new(problem, motion, rotation, self_margin)?;
     let wb = WholeBodyIk::new(problem.robot, settings);
     let mut run = Run {
         prepared: &prepared,
