@@ -7,3 +7,4 @@ mod ik_fast;
 mod robot;
 mod spheres;
 pub(crate) mod third_party;
+mod walk;

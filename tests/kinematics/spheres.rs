@@ -23,7 +23,7 @@ use super::third_party::{example_robot_data, options};
 const MARGIN: f64 = 0.01;
 
 /// The Gen3 as shipped, the Panda with its SRDF, TIAGo from `robots/tiago.toml`.
-fn robots() -> Vec<(&'static str, RobotModel)> {
+pub(super) fn robots() -> Vec<(&'static str, RobotModel)> {
     let root = example_robot_data().join("robots/panda_description");
     let panda =
         RobotModel::from_urdf_file_with(&root.join("urdf/panda.urdf"), &options("panda_hand"))
@@ -87,7 +87,7 @@ fn every_state(
 
 /// A floor slab (top at z = 0), a thin shelf, a post, a ball and a tilted box around a robot
 /// at the origin, within the arms' reach.
-fn scene() -> SceneModel {
+pub(super) fn scene() -> SceneModel {
     let mut b = SceneModelBuilder::new();
     let tilted = Isometry3::new(Vector3::new(-0.65, 0.25, 1.0), Vector3::new(0.3, 0.5, 0.2));
     for (name, shape, pose) in [
@@ -122,7 +122,7 @@ fn scene() -> SceneModel {
     b.build().unwrap()
 }
 
-fn random_arm(robot: &RobotModel, rng: &mut ChaCha8Rng) -> DVector<f64> {
+pub(super) fn random_arm(robot: &RobotModel, rng: &mut ChaCha8Rng) -> DVector<f64> {
     let (lo, hi) = robot.arm_bounds();
     DVector::from_fn(robot.dof(), |i, _| {
         let (l, h) = (

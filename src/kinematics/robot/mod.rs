@@ -117,7 +117,9 @@ mod srdf;
 mod stow;
 mod urdf;
 
-pub use collision::{Exempt, GROUND_TOP, RobotCollision};
+pub use collision::{
+    ContactWalk, Exempt, GROUND_TOP, MotionBound, RobotCollision, WALK_CONTACT, WalkOutcome,
+};
 pub use description::{ArmDescription, BaseDescription, RobotDescription, ToolDescription};
 pub use error::RobotError;
 pub use model::{

@@ -55,9 +55,15 @@
 //! [`first_invalid`](crate::motion::paths::first_invalid) at the planner's resolution, with
 //! the same collision model but none of OMPL's code (a disagreement is a failed step, not an
 //! accepted one). Every phase is time-parameterised under the robot's velocity and
-//! acceleration limits.
+//! acceleration limits. The timed approach and retreat (stow to grasp and back, blends
+//! included) are then certified continuously ([`ContactWalk`](crate::kinematics::robot::ContactWalk),
+//! `certify.rs`): walked in time with steps no longer than the exact distances allow under
+//! the velocity limits, so no obstacle, however thin, lies unseen between two checked
+//! configurations; a contact found is a failed step. The manipulation, whose part moves
+//! with the arm, is re-checked densely only.
 
 mod arm;
+mod certify;
 mod reason;
 mod refine;
 mod segment;

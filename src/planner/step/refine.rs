@@ -3,6 +3,7 @@
 
 use nalgebra::DVector;
 
+use super::certify::Stretch;
 use super::{
     Check, Contact, Failed, FailedSegment, StepContext, StepMode, StepMotion, StepPath, StepReason,
     StepTiming, grasped, grid_bounds, path_or_reason, same_pose,
@@ -13,6 +14,7 @@ use crate::motion::placement::{
     JointMotion, Obstacle, PlacementOutcome, PlacementProblem, PlacementSettings, place_and_plan,
     rest_self_margin,
 };
+use crate::motion::timing::TimedPath;
 use crate::planner::arm_check::ArmCheck;
 use crate::planner::{PlannerError, StepFailure};
 use crate::scene::collision::Body;
@@ -223,6 +225,9 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
         };
         let (base_timed, approach, (manipulation, manipulation_base), retreat) =
             self.time(handle, placed, &base_path, &arm)?;
+        if let Some(f) = self.certify_arm(placed, &arm, &approach, &retreat)? {
+            return Ok(Err(f));
+        }
         let timing = StepTiming {
             base: base_timed.duration,
             approach: approach.duration,
@@ -252,6 +257,60 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
             },
             compared: None,
         }))
+    }
+
+    /// The timed approach and retreat certified free between their checked configurations
+    /// (`certify.rs`): the approach free up to the pre-grasp and under the grasp rule from it,
+    /// at the placement's base pose in the step's start state; the retreat under the grasp
+    /// rule up to the post-grasp and free after it, at the manipulation's last base pose in the
+    /// state after the step.
+    fn certify_arm(
+        &self,
+        placed: &Placed,
+        arm: &ArmPaths,
+        approach: &TimedPath,
+        retreat: &TimedPath,
+    ) -> Result<Option<Failed>, PlannerError> {
+        let grasp = Exempt::Grasp(&self.grasped);
+        let pregrasp = approach.times[arm.pregrasp];
+        let stretches = [
+            Stretch {
+                which: StepPath::ArmToPregrasp,
+                from: 0.0,
+                to: pregrasp,
+                data: &self.data,
+                exempt: Exempt::Nothing,
+            },
+            Stretch {
+                which: StepPath::StraightIn,
+                from: pregrasp,
+                to: approach.duration,
+                data: &self.data,
+                exempt: grasp,
+            },
+        ];
+        if let Some(f) = self.certify(approach, placed.base, &stretches, Check::Approach) {
+            return Ok(Some(f));
+        }
+        let after = self.after()?;
+        let postgrasp = retreat.times[arm.postgrasp];
+        let stretches = [
+            Stretch {
+                which: StepPath::StraightOut,
+                from: 0.0,
+                to: postgrasp,
+                data: &after,
+                exempt: grasp,
+            },
+            Stretch {
+                which: StepPath::ArmToStow,
+                from: postgrasp,
+                to: retreat.duration,
+                data: &after,
+                exempt: Exempt::Nothing,
+            },
+        ];
+        Ok(self.certify(retreat, placed.end_base(), &stretches, Check::Retreat))
     }
 
     /// The arm check at the scene `data`, with `exempt`, with the sphere fast path when the

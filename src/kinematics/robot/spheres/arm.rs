@@ -515,7 +515,7 @@ impl<'a> ArmCheck<'a> {
 /// shapes. Prismatic `j`: `λ_j = 1`. The relative velocity is `Σ_j q̇_j·(ω_j × (p − o_j))`
 /// (revolute) `+ Σ_j q̇_j·v_j` (prismatic), whose norm is at most that sum.
 /// `links`: the sphere covers, per link (as [`RobotSpheres::links`]).
-pub(super) fn levers(
+pub(crate) fn levers(
     robot: &RobotModel,
     links: &[Vec<super::Sphere>],
     i: usize,

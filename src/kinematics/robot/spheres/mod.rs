@@ -58,6 +58,7 @@ use nalgebra::Point3;
 use super::{RobotCollision, RobotError, RobotModel};
 use crate::InvalidSetting;
 
+pub(crate) use arm::levers;
 pub use arm::{ArmCheck, ArmCheckData};
 pub use check::{SPHERE_SLACK, SphereData};
 pub use cover::CELL_SLACK;

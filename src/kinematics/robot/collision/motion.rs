@@ -1,0 +1,223 @@
+//! How fast the robot's points can move: per link (against the world, the base held still) and
+//! per checked link pair (one link against the other), as lever sums over the arm joints, for
+//! conservative advancement along a timed arm motion
+//! ([`RobotCollision::motion_bound`]).
+//!
+//! **Bound.** A point `p` of link `k` moves relative to link `i < k` with velocity
+//! `Σ_j q̇_j·(ω_j × (p − o_j))` (revolute `j`) plus `Σ_j q̇_j·v_j` (prismatic `j`), over the
+//! joints `i <= j < k`, so at speed at most `Σ_j |q̇_j|·λ_j`, with `λ_j` a bound on the distance
+//! from joint `j`'s axis to any point of link `k` (1 for a prismatic joint). The levers are
+//! those of the sphere model's motion bounds, computed here from the one sphere per link that
+//! encloses the link's collision shapes. With every `|q̇_j| <= v_j` (the joints' velocity
+//! limits), no point of link `k` moves faster than `Σ_j v_j·λ_j`: in time `Δt` its distance
+//! to anything still (or to link `i`) shrinks by at most that times `Δt`. [`ContactWalk`]
+//! walks a timed motion with the steps that allows.
+
+use super::super::spheres::{Sphere, levers};
+use super::{Exempt, RobotCollision, RobotModel};
+use crate::scene::{SceneData, SceneModel};
+
+/// The speed bounds of one robot's links ([`RobotCollision::motion_bound`]): a point of link
+/// `k` moves relative to link `i < k` (or to the world, `i` = the base) no faster than
+/// `Σ_j |q̇_j|·λ_j` over the joints `i <= j < k`, `λ_j` a bound on the distance from joint
+/// `j`'s axis to any point of link `k` (1 for a prismatic joint), from the sphere enclosing
+/// the link's shapes and the joint offsets down the chain.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MotionBound {
+    /// Per link, `(arm joint, lever)` against the world (links without shapes: empty).
+    links: Vec<Levers>,
+    /// Per checked pair `(i, k)` of [`RobotCollision`], `(arm joint, lever)` of link `k`
+    /// against link `i`.
+    pairs: Vec<((usize, usize), Levers)>,
+}
+
+/// `(arm joint, lever)` pairs: see [`MotionBound`].
+type Levers = Vec<(usize, f64)>;
+
+impl MotionBound {
+    /// The highest speed (m/s) of any point of link `l` against the world when every arm
+    /// joint `j` moves no faster than `velocity[j]` (rad/s or m/s; absolute values are
+    /// taken, a missing entry counts as 0). 0 for a link without shapes or out of range.
+    pub fn link_speed(&self, l: usize, velocity: &[f64]) -> f64 {
+        self.links
+            .get(l)
+            .map_or(0.0, |levers| sum(levers, velocity))
+    }
+
+    /// The checked link pairs `(i, k)`, `i < k`, in the order of
+    /// [`MotionBound::pair_speed`].
+    pub fn pairs(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        self.pairs.iter().map(|(p, _)| *p)
+    }
+
+    /// The highest speed (m/s) of any point of the `p`-th checked pair's second link
+    /// relative to its first under the same joint speeds (0 out of range).
+    pub fn pair_speed(&self, p: usize, velocity: &[f64]) -> f64 {
+        self.pairs
+            .get(p)
+            .map_or(0.0, |(_, levers)| sum(levers, velocity))
+    }
+}
+
+fn sum(levers: &[(usize, f64)], velocity: &[f64]) -> f64 {
+    levers
+        .iter()
+        .map(|&(j, lever)| velocity.get(j).map_or(0.0, |v| v.abs()) * lever)
+        .sum()
+}
+
+impl RobotCollision {
+    /// The speed bounds of `robot`'s links (this collision model's shapes, its checked pairs):
+    /// see [`MotionBound`]. `robot` must be the model this was compiled from.
+    pub fn motion_bound(&self, robot: &RobotModel) -> MotionBound {
+        let covers: Vec<Vec<Sphere>> = self
+            .spheres
+            .iter()
+            .map(|s| {
+                s.map(|(center, radius)| Sphere { center, radius })
+                    .into_iter()
+                    .collect()
+            })
+            .collect();
+        MotionBound {
+            links: (0..covers.len())
+                .map(|l| {
+                    if covers[l].is_empty() {
+                        Vec::new()
+                    } else {
+                        levers(robot, &covers, 0, l)
+                    }
+                })
+                .collect(),
+            pairs: self
+                .checked
+                .iter()
+                .map(|&(i, k)| ((i, k), levers(robot, &covers, i, k)))
+                .collect(),
+        }
+    }
+}
+
+/// A distance (m) at or below which [`ContactWalk`] counts two shapes as touching: the walk
+/// would otherwise creep up to a contact in ever smaller steps.
+pub const WALK_CONTACT: f64 = 1e-5;
+
+/// An exact distance is computed again once its bound has fallen below this fraction of it.
+const RECOMPUTE: f64 = 0.5;
+
+/// Continuous contact check of a timed arm motion by conservative advancement: see
+/// [`ContactWalk::first_contact`].
+#[derive(Clone, Copy)]
+pub struct ContactWalk<'a> {
+    /// The robot.
+    pub robot: &'a RobotModel,
+    /// Its collision model.
+    pub collision: &'a RobotCollision,
+    /// Its speed bounds (`collision.motion_bound(robot)`).
+    pub bound: &'a MotionBound,
+    /// The scene and its part poses, as [`RobotCollision::scene_collision`] takes them.
+    pub model: &'a SceneModel,
+    /// The part poses of `model`'s state.
+    pub data: &'a SceneData,
+    /// Which bodies some robot shapes may touch.
+    pub exempt: Exempt<'a>,
+    /// The base pose (held still).
+    pub base: [f64; 3],
+    /// Per arm joint, the most its speed reaches along the motion (rad/s or m/s; the
+    /// joints' velocity limits for a trajectory timed under them).
+    pub joint_speed: &'a [f64],
+    /// Most configurations looked at before giving up ([`WalkOutcome::TooClose`]).
+    pub max_steps: usize,
+}
+
+/// What [`ContactWalk::first_contact`] found.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum WalkOutcome {
+    /// No link comes within [`WALK_CONTACT`] of the scene (under the exemption) or of a link
+    /// it is checked against, anywhere on the motion; after this many configurations.
+    Free {
+        /// Configurations looked at.
+        steps: usize,
+    },
+    /// A link comes within [`WALK_CONTACT`] at this time (or has no pose there).
+    Contact {
+        /// The time (s).
+        t: f64,
+    },
+    /// `max_steps` configurations did not reach the end (the motion stays within a hair of
+    /// something for long); the time reached.
+    TooClose {
+        /// The time (s).
+        t: f64,
+    },
+}
+
+impl ContactWalk<'_> {
+    /// Walks `trajectory` (time → arm configuration) from `from` to `to` s by conservative
+    /// advancement. At time `t` each link's exact distance `d_l` to the scene and each
+    /// checked pair's `d_p` are known, or bounded below by an earlier exact value less the
+    /// most its points can have moved since (computed again once that bound falls below half
+    /// the value); no point of link `l` moves faster than [`MotionBound::link_speed`] at
+    /// `joint_speed`, so nothing touches before `t + min(d_l / s_l, d_p / s_p)`, the next time
+    /// looked at. So no obstacle is passed between two looks, however thin, provided the
+    /// trajectory's joint speeds stay within `joint_speed`. `to` itself is looked at.
+    pub fn first_contact(
+        &self,
+        trajectory: &dyn Fn(f64) -> Vec<f64>,
+        from: f64,
+        to: f64,
+    ) -> WalkOutcome {
+        let links = self.robot.links().len();
+        let pairs: Vec<(usize, usize)> = self.bound.pairs().collect();
+        let speed: Vec<f64> = (0..links)
+            .map(|l| self.bound.link_speed(l, self.joint_speed))
+            .chain((0..pairs.len()).map(|p| self.bound.pair_speed(p, self.joint_speed)))
+            .collect();
+        // Per item (links, then pairs): the time and value of its last exact distance.
+        let mut last: Vec<Option<(f64, f64)>> = vec![None; speed.len()];
+        let mut t = from;
+        for steps in 1..=self.max_steps {
+            let arm = nalgebra::DVector::from_vec(trajectory(t));
+            let Ok(poses) = self.robot.link_poses(&super::RobotConfig {
+                base: self.base,
+                arm,
+            }) else {
+                return WalkOutcome::Contact { t };
+            };
+            let mut step = f64::INFINITY;
+            for (k, entry) in last.iter_mut().enumerate() {
+                let v = speed[k];
+                let d = match entry.map(|(tk, dk)| (dk - v * (t - tk), dk)) {
+                    Some((b, dk)) if b > RECOMPUTE * dk => b,
+                    _ => {
+                        let d = if k < links {
+                            self.collision.link_scene_distance(
+                                &poses,
+                                k,
+                                self.model,
+                                self.data,
+                                self.exempt,
+                            )
+                        } else {
+                            let (i, j) = pairs[k - links];
+                            self.collision.pair_distance(&poses, i, j)
+                        };
+                        if d <= WALK_CONTACT {
+                            return WalkOutcome::Contact { t };
+                        }
+                        *entry = Some((t, d));
+                        d
+                    }
+                };
+                if v > 0.0 {
+                    step = step.min(d / v);
+                }
+            }
+            if t >= to {
+                return WalkOutcome::Free { steps };
+            }
+            t = (t + step).min(to);
+        }
+        WalkOutcome::TooClose { t }
+    }
+}
