@@ -228,6 +228,9 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
         if let Some(f) = self.certify_arm(placed, &arm, &approach, &retreat)? {
             return Ok(Err(f));
         }
+        if let Some(f) = self.certify_manipulation(placed, &manipulation)? {
+            return Ok(Err(f));
+        }
         let timing = StepTiming {
             base: base_timed.duration,
             approach: approach.duration,

@@ -117,8 +117,14 @@ pub struct ContactWalk<'a> {
     pub bound: &'a MotionBound,
     /// The scene and its part poses, as [`RobotCollision::scene_collision`] takes them.
     pub model: &'a SceneModel,
-    /// The part poses of `model`'s state.
+    /// The part poses of `model`'s state (at every time, unless `scene_at` moves parts).
     pub data: &'a SceneData,
+    /// Parts that move along the motion: fills the data with the part poses at a time
+    /// (`false`: none there, which the walk reports as a contact). `None`: `data` throughout.
+    pub scene_at: Option<&'a SceneAt<'a>>,
+    /// The most any point of the parts `scene_at` moves travels per second (m/s): added to
+    /// every link's speed against the scene. 0 for a still scene.
+    pub scene_speed: f64,
     /// Which bodies some robot shapes may touch.
     pub exempt: Exempt<'a>,
     /// The base pose (held still).
@@ -129,6 +135,10 @@ pub struct ContactWalk<'a> {
     /// Most configurations looked at before giving up ([`WalkOutcome::TooClose`]).
     pub max_steps: usize,
 }
+
+/// Fills scene data with the part poses at a time (`false`: none there): see
+/// [`ContactWalk::scene_at`].
+pub type SceneAt<'a> = dyn Fn(f64, &mut SceneData) -> bool + 'a;
 
 /// What [`ContactWalk::first_contact`] found.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -169,8 +179,9 @@ impl ContactWalk<'_> {
     ) -> WalkOutcome {
         let links = self.robot.links().len();
         let pairs: Vec<(usize, usize)> = self.bound.pairs().collect();
+        let mut moved = self.scene_at.map(|_| self.data.clone());
         let speed: Vec<f64> = (0..links)
-            .map(|l| self.bound.link_speed(l, self.joint_speed))
+            .map(|l| self.bound.link_speed(l, self.joint_speed) + self.scene_speed)
             .chain((0..pairs.len()).map(|p| self.bound.pair_speed(p, self.joint_speed)))
             .collect();
         // Per item (links, then pairs): the time and value of its last exact distance.
@@ -184,6 +195,15 @@ impl ContactWalk<'_> {
             }) else {
                 return WalkOutcome::Contact { t };
             };
+            let data = match (&mut moved, self.scene_at) {
+                (Some(buffer), Some(at)) => {
+                    if !at(t, buffer) {
+                        return WalkOutcome::Contact { t };
+                    }
+                    &*buffer
+                }
+                _ => self.data,
+            };
             let mut step = f64::INFINITY;
             for (k, entry) in last.iter_mut().enumerate() {
                 let v = speed[k];
@@ -195,7 +215,7 @@ impl ContactWalk<'_> {
                                 &poses,
                                 k,
                                 self.model,
-                                self.data,
+                                data,
                                 self.exempt,
                             )
                         } else {
