@@ -161,23 +161,8 @@ fn the_walk_stops_at_a_thin_plate_across_the_sweep() {
         scene_speed: 0.0,
     };
     let trajectory = |t: f64| at(t).iter().copied().collect::<Vec<f64>>();
-    let WalkOutcome::Contact { t } = walk.first_contact(&trajectory, 0.0, 1.0) else {
-        panic!("the walk passed the plate");
-    };
-    eprintln!("first contact sampled at {first:.4} s, walk stopped at {t:.4} s");
-    assert!(
-        t <= first,
-        "the walk stopped at {t}, after the contact at {first}"
-    );
-    assert!(
-        t >= first - 0.01,
-        "the walk stopped at {t}, long before {first}"
-    );
+    assert_stops_at(&walk, &trajectory, first);
     let before = first - 0.01;
-    assert!(matches!(
-        walk.first_contact(&trajectory, 0.0, before),
-        WalkOutcome::Free { .. }
-    ));
     assert!((0..=1000).all(|i| !touches(before * i as f64 / 1000.0)));
 }
 
@@ -246,10 +231,16 @@ fn the_walk_stops_at_a_thin_door_turning_into_the_robot() {
         scene_speed: std::f64::consts::PI * 0.4001,
     };
     let trajectory = |_: f64| stow.iter().copied().collect::<Vec<f64>>();
-    let WalkOutcome::Contact { t } = walk.first_contact(&trajectory, 0.0, 1.0) else {
-        panic!("the walk passed the door");
+    assert_stops_at(&walk, &trajectory, first);
+}
+
+/// The walk over `[0, 1]` s stops at a contact at or before `first` (the first contact dense
+/// sampling found) and at most 10 ms before it, and certifies `[0, first − 0.01]` free.
+fn assert_stops_at(walk: &ContactWalk<'_>, trajectory: &dyn Fn(f64) -> Vec<f64>, first: f64) {
+    let WalkOutcome::Contact { t } = walk.first_contact(trajectory, 0.0, 1.0) else {
+        panic!("the walk passed the contact at {first}");
     };
-    eprintln!("door: first contact sampled at {first:.4} s, walk stopped at {t:.4} s");
+    eprintln!("first contact sampled at {first:.4} s, walk stopped at {t:.4} s");
     assert!(
         t <= first,
         "the walk stopped at {t}, after the contact at {first}"
@@ -259,7 +250,7 @@ fn the_walk_stops_at_a_thin_door_turning_into_the_robot() {
         "the walk stopped at {t}, long before {first}"
     );
     assert!(matches!(
-        walk.first_contact(&trajectory, 0.0, first - 0.01),
+        walk.first_contact(trajectory, 0.0, first - 0.01),
         WalkOutcome::Free { .. }
     ));
 }
