@@ -108,7 +108,9 @@ use std::time::Instant;
 use nalgebra::DVector;
 
 use crate::kinematics::ik::{IkError, IkSolver};
-use crate::kinematics::robot::{RobotCollision, RobotConfig, RobotError, RobotModel, RobotSpheres};
+use crate::kinematics::robot::{
+    RobotCollision, RobotConfig, RobotError, RobotModel, RobotSpheres, SpeedBound,
+};
 use crate::motion::paths::PathError;
 use crate::motion::placement::{PlacementData, PlacementError};
 use crate::motion::timing::TimingError;
@@ -169,6 +171,8 @@ pub struct HierarchicalPlanner {
     /// The sphere model of the arm checks' fast path (`settings.arm_spheres`).
     spheres: Option<RobotSpheres>,
     ik: IkSolver,
+    /// How fast the robot's points move for given joint speeds (the certification's bound).
+    speeds: SpeedBound,
     settings: PlannerSettings,
     /// The compiled placement NLP, reused between steps and calls.
     placement: Mutex<PlacementData>,
@@ -217,6 +221,7 @@ impl HierarchicalPlanner {
             None => None,
         };
         Ok(HierarchicalPlanner {
+            speeds: collision.speed_bound(&robot),
             robot,
             collision,
             spheres,
@@ -407,6 +412,7 @@ impl HierarchicalPlanner {
                 robot: &self.robot,
                 collision: &self.collision,
                 spheres: self.spheres.as_ref(),
+                speeds: &self.speeds,
                 ik: &self.ik,
                 settings: &self.settings,
                 model,

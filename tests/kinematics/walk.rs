@@ -1,4 +1,4 @@
-//! The robot's speed bounds (`MotionBound`) and the continuous contact walk (`ContactWalk`),
+//! The robot's speed bounds (`SpeedBound`) and the continuous contact walk (`ContactWalk`),
 //! against exact distances sampled densely.
 
 use kinscene::kinematics::robot::{
@@ -40,7 +40,7 @@ fn distances_change_no_faster_than_the_motion_bound() {
     let n = 200;
     for (name, robot) in robots() {
         let collision = RobotCollision::new(&robot).unwrap();
-        let bound = collision.motion_bound(&robot);
+        let bound = collision.speed_bound(&robot);
         let pairs: Vec<(usize, usize)> = bound.pairs().collect();
         let mut rng = ChaCha8Rng::seed_from_u64(7);
         let mut worst: f64 = 0.0;
@@ -96,7 +96,7 @@ fn distances_change_no_faster_than_the_motion_bound() {
 fn the_walk_stops_at_a_thin_plate_across_the_sweep() {
     let robot = RobotModel::kinova_gen3_mobile();
     let collision = RobotCollision::new(&robot).unwrap();
-    let bound = collision.motion_bound(&robot);
+    let bound = collision.speed_bound(&robot);
     let dof = robot.dof();
     // An outstretched, self-clear posture: the wrist 0.45 m or more off the first joint's
     // axis, at least 1 cm between checked links all along the sweep.
@@ -177,7 +177,7 @@ fn the_walk_stops_at_a_thin_door_turning_into_the_robot() {
     use nalgebra::Point3;
     let robot = RobotModel::kinova_gen3_mobile();
     let collision = RobotCollision::new(&robot).unwrap();
-    let bound = collision.motion_bound(&robot);
+    let bound = collision.speed_bound(&robot);
     let mut builder = SceneModelBuilder::new();
     builder.add_part(
         PartSpec::on_base(

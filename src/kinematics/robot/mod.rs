@@ -118,8 +118,7 @@ mod stow;
 mod urdf;
 
 pub use collision::{
-    ContactWalk, Exempt, GROUND_TOP, MotionBound, RobotCollision, SceneAt, WALK_CONTACT,
-    WalkOutcome,
+    ContactWalk, Exempt, GROUND_TOP, RobotCollision, SceneAt, SpeedBound, WALK_CONTACT, WalkOutcome,
 };
 pub use description::{ArmDescription, BaseDescription, RobotDescription, ToolDescription};
 pub use error::RobotError;

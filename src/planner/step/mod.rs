@@ -86,7 +86,7 @@ use nalgebra::DVector;
 
 use super::{PlannerError, PlannerSettings};
 use crate::kinematics::ik::IkSolver;
-use crate::kinematics::robot::{RobotCollision, RobotConfig, RobotModel, RobotSpheres};
+use crate::kinematics::robot::{RobotCollision, RobotConfig, RobotModel, RobotSpheres, SpeedBound};
 use crate::motion::paths::PathOutcome;
 use crate::motion::placement::PlacementData;
 use crate::motion::timing::TimedPath;
@@ -291,6 +291,7 @@ pub(super) struct StepContext<'a> {
     pub robot: &'a RobotModel,
     pub collision: &'a RobotCollision,
     pub spheres: Option<&'a RobotSpheres>,
+    pub speeds: &'a SpeedBound,
     pub ik: &'a IkSolver,
     pub settings: &'a PlannerSettings,
     pub model: &'a SceneModel,

@@ -1,7 +1,7 @@
 //! How fast the robot's points can move: per link (against the world, the base held still) and
 //! per checked link pair (one link against the other), as lever sums over the arm joints, for
 //! conservative advancement along a timed arm motion
-//! ([`RobotCollision::motion_bound`]).
+//! ([`RobotCollision::speed_bound`]).
 //!
 //! **Bound.** A point `p` of link `k` moves relative to link `i < k` with velocity
 //! `Σ_j q̇_j·(ω_j × (p − o_j))` (revolute `j`) plus `Σ_j q̇_j·v_j` (prismatic `j`), over the
@@ -17,13 +17,13 @@ use super::super::spheres::{Sphere, levers};
 use super::{Exempt, RobotCollision, RobotModel};
 use crate::scene::{SceneData, SceneModel};
 
-/// The speed bounds of one robot's links ([`RobotCollision::motion_bound`]): a point of link
+/// The speed bounds of one robot's links ([`RobotCollision::speed_bound`]): a point of link
 /// `k` moves relative to link `i < k` (or to the world, `i` = the base) no faster than
 /// `Σ_j |q̇_j|·λ_j` over the joints `i <= j < k`, `λ_j` a bound on the distance from joint
 /// `j`'s axis to any point of link `k` (1 for a prismatic joint), from the sphere enclosing
 /// the link's shapes and the joint offsets down the chain.
 #[derive(Debug, Clone, PartialEq)]
-pub struct MotionBound {
+pub struct SpeedBound {
     /// Per link, `(arm joint, lever)` against the world (links without shapes: empty).
     links: Vec<Levers>,
     /// Per checked pair `(i, k)` of [`RobotCollision`], `(arm joint, lever)` of link `k`
@@ -31,10 +31,10 @@ pub struct MotionBound {
     pairs: Vec<((usize, usize), Levers)>,
 }
 
-/// `(arm joint, lever)` pairs: see [`MotionBound`].
+/// `(arm joint, lever)` pairs: see [`SpeedBound`].
 type Levers = Vec<(usize, f64)>;
 
-impl MotionBound {
+impl SpeedBound {
     /// The highest speed (m/s) of any point of link `l` against the world when every arm
     /// joint `j` moves no faster than `velocity[j]` (rad/s or m/s; absolute values are
     /// taken, a missing entry counts as 0). 0 for a link without shapes or out of range.
@@ -45,7 +45,7 @@ impl MotionBound {
     }
 
     /// The checked link pairs `(i, k)`, `i < k`, in the order of
-    /// [`MotionBound::pair_speed`].
+    /// [`SpeedBound::pair_speed`].
     pub fn pairs(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
         self.pairs.iter().map(|(p, _)| *p)
     }
@@ -68,8 +68,8 @@ fn sum(levers: &[(usize, f64)], velocity: &[f64]) -> f64 {
 
 impl RobotCollision {
     /// The speed bounds of `robot`'s links (this collision model's shapes, its checked pairs):
-    /// see [`MotionBound`]. `robot` must be the model this was compiled from.
-    pub fn motion_bound(&self, robot: &RobotModel) -> MotionBound {
+    /// see [`SpeedBound`]. `robot` must be the model this was compiled from.
+    pub fn speed_bound(&self, robot: &RobotModel) -> SpeedBound {
         let covers: Vec<Vec<Sphere>> = self
             .spheres
             .iter()
@@ -79,7 +79,7 @@ impl RobotCollision {
                     .collect()
             })
             .collect();
-        MotionBound {
+        SpeedBound {
             links: (0..covers.len())
                 .map(|l| {
                     if covers[l].is_empty() {
@@ -113,8 +113,8 @@ pub struct ContactWalk<'a> {
     pub robot: &'a RobotModel,
     /// Its collision model.
     pub collision: &'a RobotCollision,
-    /// Its speed bounds (`collision.motion_bound(robot)`).
-    pub bound: &'a MotionBound,
+    /// Its speed bounds (`collision.speed_bound(robot)`).
+    pub bound: &'a SpeedBound,
     /// The scene and its part poses, as [`RobotCollision::scene_collision`] takes them.
     pub model: &'a SceneModel,
     /// The part poses of `model`'s state (at every time, unless `scene_at` moves parts).
@@ -167,7 +167,7 @@ impl ContactWalk<'_> {
     /// advancement. At time `t` each link's exact distance `d_l` to the scene and each
     /// checked pair's `d_p` are known, or bounded below by an earlier exact value less the
     /// most its points can have moved since (computed again once that bound falls below half
-    /// the value); no point of link `l` moves faster than [`MotionBound::link_speed`] at
+    /// the value); no point of link `l` moves faster than [`SpeedBound::link_speed`] at
     /// `joint_speed`, so nothing touches before `t + min(d_l / s_l, d_p / s_p)`, the next time
     /// looked at. So no obstacle is passed between two looks, however thin, provided the
     /// trajectory's joint speeds stay within `joint_speed`. `to` itself is looked at.
