@@ -118,7 +118,8 @@ mod stow;
 mod urdf;
 
 pub use collision::{
-    ContactWalk, Exempt, GROUND_TOP, RobotCollision, SceneAt, SpeedBound, WALK_CONTACT, WalkOutcome,
+    ContactWalk, Exempt, GROUND_TOP, RobotCollision, SceneAt, SpeedBound, WALK_CONTACT, WalkBase,
+    WalkOutcome,
 };
 pub use description::{ArmDescription, BaseDescription, RobotDescription, ToolDescription};
 pub use error::RobotError;

@@ -6,12 +6,14 @@
 //! centimetres at the gripper), so a thin shelf or rod could lie between them unseen. The
 //! walk follows the timed trajectory (blends included, as the robot will execute it) with
 //! steps the exact distances allow, under the joints' velocity limits, which the timing keeps.
+//! The base path (arm stowed) and a whole-body manipulation are walked the same way, the
+//! base moving under its planar speed and yaw rate limits ([`WalkBase::Moving`]).
 
 use std::cell::RefCell;
 
 use super::refine::{Placed, StepRefinement};
 use super::{Check, Failed, StepPath, StepReason};
-use crate::kinematics::robot::{ContactWalk, Exempt, WalkOutcome};
+use crate::kinematics::robot::{ContactWalk, Exempt, WalkBase, WalkOutcome};
 use crate::motion::timing::TimedPath;
 use crate::planner::PlannerError;
 use crate::planner::timed::value_at;
@@ -37,11 +39,11 @@ pub(super) struct Stretch<'d> {
 }
 
 impl StepRefinement<'_, '_> {
-    /// The walk at base pose `base` in the scene `data` under `exempt`, with joint speeds
+    /// The walk with the base `base` in the scene `data` under `exempt`, with joint speeds
     /// `vmax` ([`walk_speeds`]); the scene still.
     fn contact_walk<'w>(
         &'w self,
-        base: [f64; 3],
+        base: WalkBase<'w>,
         data: &'w SceneData,
         exempt: Exempt<'w>,
         vmax: &'w [f64],
@@ -101,7 +103,7 @@ impl StepRefinement<'_, '_> {
         let vmax = walk_speeds(self);
         let trajectory = |t: f64| path.sample(t);
         stretches.iter().find_map(|s| {
-            let walk = self.contact_walk(base, s.data, s.exempt, &vmax);
+            let walk = self.contact_walk(WalkBase::Still(base), s.data, s.exempt, &vmax);
             match walk.first_contact(&trajectory, s.from, s.to) {
                 WalkOutcome::Free { .. } => None,
                 WalkOutcome::Contact { t } | WalkOutcome::TooClose { t } => {
@@ -111,41 +113,106 @@ impl StepRefinement<'_, '_> {
         })
     }
 
-    /// The fixed-base manipulation `path` certified as the approach and retreat are, with the
-    /// grasped part moving where the arm's progress along the waypoints puts it
-    /// ([`value_at`], as the dense re-check and the timing place it) and the grasp rule; every
-    /// link's speed against the scene gains the most any point of the grasped part moves
-    /// ([`Self::part_speed`]). A whole-body manipulation (the base moving too) is re-checked
-    /// densely only.
+    /// The base path `path` (arm stowed, the scene at the step's start state, nothing
+    /// exempt) certified as the arm's phases are, the base moving under its limits
+    /// ([`base_speeds`]); the failure names the base pose where the walk stopped.
+    pub(super) fn certify_base(&self, path: &TimedPath) -> Option<Failed> {
+        let pose = |t: f64| pose_at(path, t);
+        let (linear, angular) = base_speeds(self);
+        let still = vec![0.0; self.ctx.robot.dof()];
+        let walk = self.contact_walk(
+            WalkBase::Moving {
+                pose: &pose,
+                linear,
+                angular,
+            },
+            &self.data,
+            Exempt::Nothing,
+            &still,
+        );
+        let stow: Vec<f64> = self.ctx.stow.iter().copied().collect();
+        let t = match walk.first_contact(&|_| stow.clone(), 0.0, path.duration) {
+            WalkOutcome::Free { .. } => return None,
+            WalkOutcome::Contact { t } | WalkOutcome::TooClose { t } => t,
+        };
+        let at = pose(t);
+        Some(self.fail(
+            Check::BasePath,
+            StepReason::Collision {
+                path: StepPath::Base,
+                segment: segment_at(path, t),
+                at: at.to_vec(),
+                scene_joint: None,
+                contact: self.base_contact(&at),
+            },
+        ))
+    }
+
+    /// The manipulation `path` certified as the approach and retreat are, with the grasped
+    /// part moving where the progress along the waypoints puts it ([`value_at`], as the dense
+    /// re-check and the timing place it) and the grasp rule; every link's speed against the
+    /// scene gains the most any point of the grasped part moves ([`Self::part_speed`]). A
+    /// whole-body manipulation (`base_path`: the base's trajectory, in step with the arm's)
+    /// has its base moving under its limits, and the progress is measured along the whole
+    /// configurations `[x, y, yaw, q…]`, as its timing measures it.
     pub(super) fn certify_manipulation(
         &self,
         placed: &Placed,
         path: &TimedPath,
+        base_path: Option<&TimedPath>,
     ) -> Result<Option<Failed>, PlannerError> {
-        if placed.bases.is_some() {
-            return Ok(None);
-        }
         let model = self.ctx.model;
-        let waypoints = placed.waypoints();
         let vmax = walk_speeds(self);
-        let scene_speed = self.part_speed(waypoints, &vmax)?;
+        let (linear, angular) = base_speeds(self);
+        let (waypoints, speeds): (Vec<Vec<f64>>, Vec<f64>) = match base_path {
+            None => (placed.waypoints().to_vec(), vmax.clone()),
+            Some(_) => (
+                placed
+                    .waypoint_bases()
+                    .iter()
+                    .zip(placed.waypoints())
+                    .map(|(b, q)| b.iter().chain(q).copied().collect())
+                    .collect(),
+                // The norm of the whole configuration's rate: planar speed, yaw rate, joints.
+                [linear, angular]
+                    .into_iter()
+                    .chain(vmax.iter().copied())
+                    .collect(),
+            ),
+        };
+        let scene_speed = self.part_speed(&waypoints, &speeds)?;
         if !scene_speed.is_finite() {
-            // The part moves where the arm does not: no speed bound, the dense re-check only.
+            // The part moves where the robot does not: no speed bound, the dense re-check only.
             return Ok(None);
         }
         let (from, to) = (self.step.from, self.step.to);
+        let pose = |t: f64| base_path.map_or(placed.base, |b| pose_at(b, t));
+        let config = |t: f64| -> Vec<f64> {
+            match base_path {
+                None => path.sample(t),
+                Some(b) => b.sample(t).into_iter().chain(path.sample(t)).collect(),
+            }
+        };
         let state = RefCell::new(self.state.clone());
-        let value = |t: f64| value_at(waypoints, &path.sample(t), from, to);
+        let value = |t: f64| value_at(&waypoints, &config(t), from, to);
         let scene_at = |t: f64, data: &mut SceneData| {
             let mut s = state.borrow_mut();
             s.set(model, self.joint, value(t)).is_ok()
                 && forward_kinematics(model, data, &s).is_ok()
         };
+        let base = match base_path {
+            None => WalkBase::Still(placed.base),
+            Some(_) => WalkBase::Moving {
+                pose: &pose,
+                linear,
+                angular,
+            },
+        };
         let grasp = Exempt::Grasp(&self.grasped);
         let walk = ContactWalk {
             scene_at: Some(&scene_at),
             scene_speed,
-            ..self.contact_walk(placed.base, &self.data, grasp, &vmax)
+            ..self.contact_walk(base, &self.data, grasp, &vmax)
         };
         let t = match walk.first_contact(&|t| path.sample(t), 0.0, path.duration) {
             WalkOutcome::Free { .. } => return Ok(None),
@@ -159,7 +226,7 @@ impl StepRefinement<'_, '_> {
             (Check::Manipulation, StepPath::Manipulation),
             path,
             t,
-            placed.base,
+            pose(t),
             &data,
             grasp,
             Some(value(t)),
@@ -167,12 +234,13 @@ impl StepRefinement<'_, '_> {
     }
 
     /// The most any point of the grasped part (and its descendants) moves per second while
-    /// the arm follows `waypoints` with joint speeds at most `vmax`: the joint's rate times
-    /// the scene's Lipschitz constant of the joint ([`motion_bound`]). Along waypoint
-    /// segment `k` the part's value is `v_k + s·Δv_k` with `s` the arm's projection onto the
-    /// segment, whose rate is at most `|q̇| / |Δq_k|` (Euclidean norms): the joint's rate is
-    /// at most `max_k |Δv_k|·|vmax| / |Δq_k|`. `+∞` when the part moves along a segment where
-    /// the arm does not.
+    /// the robot follows `waypoints` with a rate whose Euclidean norm is at most that of
+    /// `vmax`: the joint's rate times the scene's Lipschitz constant of the joint
+    /// ([`motion_bound`]). Along waypoint segment `k` the part's value is `v_k + s·Δv_k` with
+    /// `s` the configuration's projection onto the segment, whose rate is at most
+    /// `|q̇| / |Δq_k|` (Euclidean norms): the joint's rate is at most
+    /// `max_k |Δv_k|·|vmax| / |Δq_k|`. `+∞` when the part moves along a segment where the
+    /// robot does not.
     fn part_speed(&self, waypoints: &[Vec<f64>], vmax: &[f64]) -> Result<f64, PlannerError> {
         let k = waypoints.len().saturating_sub(1).max(1);
         let dv = (self.step.to - self.step.from).abs() / k as f64;
@@ -207,6 +275,20 @@ fn segment_at(path: &TimedPath, t: f64) -> usize {
         .rposition(|&tk| tk <= t)
         .unwrap_or(0)
         .min(path.positions.len().saturating_sub(2))
+}
+
+/// The base pose `[x, y, yaw]` of the base trajectory `path` at time `t`.
+fn pose_at(path: &TimedPath, t: f64) -> [f64; 3] {
+    let p = path.sample(t);
+    [p[0], p[1], p[2]]
+}
+
+/// The walk's base speeds, planar (m/s) and yaw rate (rad/s): the length of the base's planar
+/// velocity limits (a holonomic base's per-axis limits, a differential drive's forward
+/// speed) and its yaw limit, with [`SPEED_SLACK`].
+fn base_speeds(r: &StepRefinement<'_, '_>) -> (f64, f64) {
+    let [vx, vy, w] = r.ctx.robot.base().max_velocity;
+    (SPEED_SLACK * vx.hypot(vy), SPEED_SLACK * w.abs())
 }
 
 /// The walk's joint speeds: the velocity limits with [`SPEED_SLACK`].

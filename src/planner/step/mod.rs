@@ -55,13 +55,13 @@
 //! [`first_invalid`](crate::motion::paths::first_invalid) at the planner's resolution, with
 //! the same collision model but none of OMPL's code (a disagreement is a failed step, not an
 //! accepted one). Every phase is time-parameterised under the robot's velocity and
-//! acceleration limits. The timed approach and retreat (stow to grasp and back, blends
-//! included) and the fixed-base manipulation are then certified continuously
-//! ([`ContactWalk`](crate::kinematics::robot::ContactWalk), `certify.rs`): walked in time
-//! with steps no longer than the exact distances allow under the velocity limits (and, in
-//! the manipulation, the grasped part's speed), so no obstacle, however thin, lies unseen
-//! between two checked configurations; a contact found is a failed step. A whole-body
-//! manipulation (the base moving too) is re-checked densely only.
+//! acceleration limits. Every timed phase is then certified continuously
+//! ([`ContactWalk`](crate::kinematics::robot::ContactWalk), `certify.rs`): the base path
+//! (arm stowed), the approach and retreat (stow to grasp and back, blends included) and the
+//! manipulation (fixed-base or whole-body) are walked in time with steps no longer than the
+//! exact distances allow under the joints' and the base's velocity limits (and, in the
+//! manipulation, the grasped part's speed), so no obstacle, however thin, lies unseen between
+//! two checked configurations; a contact found is a failed step.
 
 mod arm;
 mod certify;

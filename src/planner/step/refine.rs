@@ -225,10 +225,15 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
         };
         let (base_timed, approach, (manipulation, manipulation_base), retreat) =
             self.time(handle, placed, &base_path, &arm)?;
+        if let Some(f) = self.certify_base(&base_timed) {
+            return Ok(Err(f));
+        }
         if let Some(f) = self.certify_arm(placed, &arm, &approach, &retreat)? {
             return Ok(Err(f));
         }
-        if let Some(f) = self.certify_manipulation(placed, &manipulation)? {
+        if let Some(f) =
+            self.certify_manipulation(placed, &manipulation, manipulation_base.as_ref())?
+        {
             return Ok(Err(f));
         }
         let timing = StepTiming {
@@ -426,7 +431,7 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
     }
 
     /// [`Self::base_hit`] as a named contact.
-    fn base_contact(&self, b: &[f64; 3]) -> Contact {
+    pub(super) fn base_contact(&self, b: &[f64; 3]) -> Contact {
         match self.base_hit(b) {
             Ok(Some(hit)) => Contact::Touches {
                 obstacle: Obstacle::scene(self.ctx.robot, self.ctx.model, hit),

@@ -32,7 +32,7 @@ use crate::scene::collision::geometry::{CompiledShape, Placed, WorldBox};
 use crate::scene::{BaseShapeId, PartId, SceneData, SceneModel};
 
 pub(crate) use link::PlacedScene;
-pub use motion::{ContactWalk, SceneAt, SpeedBound, WALK_CONTACT, WalkOutcome};
+pub use motion::{ContactWalk, SceneAt, SpeedBound, WALK_CONTACT, WalkBase, WalkOutcome};
 
 /// Highest top (m, world z) of a scene shape that counts as the floor the base drives on: the
 /// base links' shapes (wheels, casters) may touch such shapes; every other robot shape keeps

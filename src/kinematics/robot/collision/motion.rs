@@ -10,8 +10,16 @@
 //! those of the sphere model's motion bounds, computed here from the one sphere per link that
 //! encloses the link's collision shapes. With every `|q̇_j| <= v_j` (the joints' velocity
 //! limits), no point of link `k` moves faster than `Σ_j v_j·λ_j`: in time `Δt` its distance
-//! to anything still (or to link `i`) shrinks by at most that times `Δt`. [`ContactWalk`]
-//! walks a timed motion with the steps that allows.
+//! to anything still (or to link `i`) shrinks by at most that times `Δt`.
+//!
+//! **Moving base.** The base turns about its vertical axis and translates: a point at
+//! horizontal distance `ρ` from that axis moves at most `|v| + |ω|·ρ` faster on top of the
+//! arm's share, with `|v|` the base's planar speed and `|ω|` its yaw rate. For the base link
+//! `ρ` is bounded by its enclosing sphere's `|c| + r` (base frame); for an arm link by the arm
+//! root's offset from the base origin plus the joint offsets down the chain (each prismatic
+//! joint's largest travel added) plus the link's `|c| + r` ([`SpeedBound::link_radius`]).
+//! [`ContactWalk`] walks a timed motion, of the arm or of the whole robot, with the steps
+//! these bounds allow.
 
 use super::super::spheres::{Sphere, levers};
 use super::{Exempt, RobotCollision, RobotModel};
@@ -29,6 +37,9 @@ pub struct SpeedBound {
     /// Per checked pair `(i, k)` of [`RobotCollision`], `(arm joint, lever)` of link `k`
     /// against link `i`.
     pairs: Vec<((usize, usize), Levers)>,
+    /// Per link, a bound (m) on the distance of its points from the base's vertical axis at
+    /// every arm configuration (0 for a link without shapes).
+    radii: Vec<f64>,
 }
 
 /// `(arm joint, lever)` pairs: see [`SpeedBound`].
@@ -42,6 +53,13 @@ impl SpeedBound {
         self.links
             .get(l)
             .map_or(0.0, |levers| sum(levers, velocity))
+    }
+
+    /// A bound (m) on the distance of any point of link `l` from the base's vertical axis,
+    /// whatever the arm configuration: the lever of the base's yaw (0 for a link without
+    /// shapes or out of range).
+    pub fn link_radius(&self, l: usize) -> f64 {
+        self.radii.get(l).copied().unwrap_or(0.0)
     }
 
     /// The checked link pairs `(i, k)`, `i < k`, in the order of
@@ -94,8 +112,44 @@ impl RobotCollision {
                 .iter()
                 .map(|&(i, k)| ((i, k), levers(robot, &covers, i, k)))
                 .collect(),
+            radii: covers
+                .iter()
+                .enumerate()
+                .map(|(l, cover)| radius(robot, cover, l))
+                .collect(),
         }
     }
+}
+
+/// Link `l`'s bound on the distance of its points from the base's vertical axis: its
+/// spheres' `|c| + r` (link frame), plus for an arm link (`l >= 1`, the child of arm joint
+/// `l − 1`) the arm root's offset from the base origin and the joint offsets down the chain,
+/// each prismatic joint's largest travel added (a chain of offsets reaches no farther than
+/// their sum).
+fn radius(robot: &RobotModel, cover: &[Sphere], l: usize) -> f64 {
+    if cover.is_empty() {
+        return 0.0;
+    }
+    let reach = cover
+        .iter()
+        .map(|s| s.center.coords.norm() + s.radius)
+        .fold(0.0, f64::max);
+    if l == 0 {
+        return reach;
+    }
+    let chain: f64 = robot
+        .arm_joints()
+        .iter()
+        .take(l)
+        .map(|j| {
+            let travel = match j.kind {
+                super::super::ArmJointKind::Prismatic => j.lower.abs().max(j.upper.abs()),
+                _ => 0.0,
+            };
+            j.parent_from_joint.translation.vector.norm() + travel
+        })
+        .sum();
+    robot.base_from_arm_root().translation.vector.norm() + chain + reach
 }
 
 /// A distance (m) at or below which [`ContactWalk`] counts two shapes as touching: the walk
@@ -127,8 +181,8 @@ pub struct ContactWalk<'a> {
     pub scene_speed: f64,
     /// Which bodies some robot shapes may touch.
     pub exempt: Exempt<'a>,
-    /// The base pose (held still).
-    pub base: [f64; 3],
+    /// The base: still at a pose, or moving.
+    pub base: WalkBase<'a>,
     /// Per arm joint, the most its speed reaches along the motion (rad/s or m/s; the
     /// joints' velocity limits for a trajectory timed under them).
     pub joint_speed: &'a [f64],
@@ -139,6 +193,43 @@ pub struct ContactWalk<'a> {
 /// Fills scene data with the part poses at a time (`false`: none there): see
 /// [`ContactWalk::scene_at`].
 pub type SceneAt<'a> = dyn Fn(f64, &mut SceneData) -> bool + 'a;
+
+/// The base along a [`ContactWalk`].
+#[derive(Clone, Copy)]
+pub enum WalkBase<'a> {
+    /// Held still at this pose `[x, y, yaw]`.
+    Still([f64; 3]),
+    /// Moving: its pose at a time, and bounds on its speeds along the motion.
+    Moving {
+        /// The base pose `[x, y, yaw]` at a time (s).
+        pose: &'a dyn Fn(f64) -> [f64; 3],
+        /// The most its planar speed `|(ẋ, ẏ)|` reaches (m/s).
+        linear: f64,
+        /// The most its yaw rate `|ω|` reaches (rad/s).
+        angular: f64,
+    },
+}
+
+impl WalkBase<'_> {
+    /// The pose at time `t`.
+    fn at(&self, t: f64) -> [f64; 3] {
+        match self {
+            WalkBase::Still(b) => *b,
+            WalkBase::Moving { pose, .. } => pose(t),
+        }
+    }
+
+    /// The most a point at `radius` from the base's vertical axis moves per second with the
+    /// base (0 for a still base).
+    fn speed(&self, radius: f64) -> f64 {
+        match self {
+            WalkBase::Still(_) => 0.0,
+            WalkBase::Moving {
+                linear, angular, ..
+            } => linear.abs() + angular.abs() * radius,
+        }
+    }
+}
 
 /// What [`ContactWalk::first_contact`] found.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -168,9 +259,11 @@ impl ContactWalk<'_> {
     /// checked pair's `d_p` are known, or bounded below by an earlier exact value less the
     /// most its points can have moved since (computed again once that bound falls below half
     /// the value); no point of link `l` moves faster than [`SpeedBound::link_speed`] at
-    /// `joint_speed`, so nothing touches before `t + min(d_l / s_l, d_p / s_p)`, the next time
-    /// looked at. So no obstacle is passed between two looks, however thin, provided the
-    /// trajectory's joint speeds stay within `joint_speed`. `to` itself is looked at.
+    /// `joint_speed` plus the base's share ([`WalkBase`], [`SpeedBound::link_radius`]) plus
+    /// `scene_speed` (the pairs' distances do not depend on the base), so nothing touches
+    /// before `t + min(d_l / s_l, d_p / s_p)`, the next time looked at. So no obstacle is
+    /// passed between two looks, however thin, provided the trajectory's joint speeds stay
+    /// within `joint_speed` and the base's within its bounds. `to` itself is looked at.
     pub fn first_contact(
         &self,
         trajectory: &dyn Fn(f64) -> Vec<f64>,
@@ -181,7 +274,11 @@ impl ContactWalk<'_> {
         let pairs: Vec<(usize, usize)> = self.bound.pairs().collect();
         let mut moved = self.scene_at.map(|_| self.data.clone());
         let speed: Vec<f64> = (0..links)
-            .map(|l| self.bound.link_speed(l, self.joint_speed) + self.scene_speed)
+            .map(|l| {
+                self.bound.link_speed(l, self.joint_speed)
+                    + self.base.speed(self.bound.link_radius(l))
+                    + self.scene_speed
+            })
             .chain((0..pairs.len()).map(|p| self.bound.pair_speed(p, self.joint_speed)))
             .collect();
         // Per item (links, then pairs): the time and value of its last exact distance.
@@ -190,7 +287,7 @@ impl ContactWalk<'_> {
         for steps in 1..=self.max_steps {
             let arm = nalgebra::DVector::from_vec(trajectory(t));
             let Ok(poses) = self.robot.link_poses(&super::RobotConfig {
-                base: self.base,
+                base: self.base.at(t),
                 arm,
             }) else {
                 return WalkOutcome::Contact { t };
