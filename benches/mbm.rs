@@ -5,7 +5,8 @@
 //! path with certified edges ([`ArmEdgeCheck`] through [`plan_arm_with_motion`]), and
 //! [`ArmCheck`] with OMPL's full simplifier, with [`Simplifier::Shortcut`], and with the
 //! shortcut simplifier and [`ArmCheck::with_spans`] off (every state of a motion evaluated,
-//! the same answers: the spans' saving from the same run). Prints the
+//! the same answers: the spans' saving from the same run), and with the shortcut simplifier
+//! and every motion certified continuously ([`ArmCheck::with_continuous`]). Prints the
 //! success rate, the median and p95 planning time (wall clock, planning plus simplification)
 //! and the ratio of the medians.
 //!
@@ -65,9 +66,10 @@ use serde::Deserialize;
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 
 /// Planning modes: exact, sphere fast path, certified edges, [`ArmCheck`] with OMPL's full
-/// simplifier and with [`Simplifier::Shortcut`], and the latter evaluating every state of a
-/// motion ([`ArmCheck::with_spans`] off, for the spans' saving).
-const MODES: usize = 6;
+/// simplifier and with [`Simplifier::Shortcut`], the latter evaluating every state of a
+/// motion ([`ArmCheck::with_spans`] off, for the spans' saving), and the latter certifying
+/// every motion continuously ([`ArmCheck::with_continuous`]).
+const MODES: usize = 7;
 
 #[derive(Deserialize)]
 struct Problem {
@@ -220,6 +222,9 @@ struct Stats {
     times: Vec<Duration>,
     solved: usize,
     recheck_failures: usize,
+    /// Returned paths with a segment the continuous check certifies in neither direction (it
+    /// touches, or comes within `CONTACT_CLEARANCE`, 10 µm).
+    uncertified: usize,
     /// FNV-1a over the bits of every returned path's values, in problem order: equal digests
     /// from two builds mean the same paths (the validity answers did not change).
     digest: u64,
@@ -302,6 +307,7 @@ fn main() {
         times: Vec::new(),
         solved: 0,
         recheck_failures: 0,
+        uncertified: 0,
         digest: 0xcbf2_9ce4_8422_2325,
     });
     let mut invalid_endpoints = 0;
@@ -369,6 +375,7 @@ fn main() {
             [0.0; 3],
         )
         .expect("arm check")
+        .with_continuous(false)
         .with_spans(!no_spans);
         let dense = ArmCheck::new(
             &robot,
@@ -383,11 +390,28 @@ fn main() {
             [0.0; 3],
         )
         .expect("arm check")
+        .with_continuous(false)
         .with_spans(false);
+        let continuous = ArmCheck::new(
+            &robot,
+            &collision,
+            &spheres,
+            EdgeScene {
+                model: &model,
+                data: &data,
+                exempt: Exempt::Nothing,
+                margin: 0.0,
+            },
+            [0.0; 3],
+        )
+        .expect("arm check");
         let arm_valid = |q: &[f64]| arm.is_valid(q);
         let arm_motion = |a: &[f64], b: &[f64]| arm.check_motion(a, b, settings.resolution);
         let dense_valid = |q: &[f64]| dense.is_valid(q);
         let dense_motion = |a: &[f64], b: &[f64]| dense.check_motion(a, b, settings.resolution);
+        let continuous_valid = |q: &[f64]| continuous.is_valid(q);
+        let continuous_motion =
+            |a: &[f64], b: &[f64]| continuous.check_motion(a, b, settings.resolution);
         let modes: [(&Checker<'_>, Option<&MotionCheck<'_>>, &PathSettings); MODES] = [
             (&exact, None, &settings),
             (&fast, None, &settings),
@@ -395,6 +419,7 @@ fn main() {
             (&arm_valid, Some(&arm_motion), &settings),
             (&arm_valid, Some(&arm_motion), &shortcut),
             (&dense_valid, Some(&dense_motion), &shortcut),
+            (&continuous_valid, Some(&continuous_motion), &shortcut),
         ];
         if profile {
             let settings_off = PathSettings {
@@ -406,12 +431,13 @@ fn main() {
                 (3, "arm"),
                 (4, "arm shortcut"),
                 (5, "dense shortcut"),
+                (6, "continuous shortcut"),
             ] {
                 if k == 1 && !with_fast {
                     continue;
                 }
                 let (check, motion, s) = modes[k];
-                let runs: &[(bool, &PathSettings)] = if k >= 4 {
+                let runs: &[(bool, &PathSettings)] = if k == 4 || k == 5 {
                     &[(true, s)]
                 } else {
                     &[(true, s), (false, &settings_off)]
@@ -469,6 +495,12 @@ fn main() {
                 if first_invalid(&path, settings.resolution / 4.0, false, &exact).is_some() {
                     stat.recheck_failures += 1;
                 }
+                if path.windows(2).any(|w| {
+                    !continuous.check_motion(&w[0], &w[1], settings.resolution)
+                        && !continuous.check_motion(&w[1], &w[0], settings.resolution)
+                }) {
+                    stat.uncertified += 1;
+                }
             }
         }
     }
@@ -488,6 +520,7 @@ fn main() {
         "ArmCheck, motions in Rust",
         "ArmCheck, shortcut simplifier",
         "shortcut, no spans",
+        "shortcut, continuous",
     ];
     for (name, stat) in names.iter().zip(&mut stats) {
         if stat.times.is_empty() {
@@ -499,12 +532,14 @@ fn main() {
         medians.push(median);
         println!(
             "{name:>26}: solved {}/{attempted} ({:.1} %), median {:.2} ms, p95 {:.2} ms, \
-             exact re-check at 1/4 spacing fails on {}, paths {:016x}",
+             exact re-check at 1/4 spacing fails on {}, continuous check rejects {} (touching \
+             or within 10 um), paths {:016x}",
             stat.solved,
             100.0 * stat.solved as f64 / attempted.max(1) as f64,
             median.as_secs_f64() * 1e3,
             quantile(&stat.times, 0.95).as_secs_f64() * 1e3,
             stat.recheck_failures,
+            stat.uncertified,
             stat.digest
         );
     }
@@ -513,15 +548,16 @@ fn main() {
         "median ratios against ArmCheck (full simplifier): exact {:.2}, fast path {:.2}, \
          certified {:.2}, ArmCheck with shortcut simplifier {:.2}; against the fast path: \
          ArmCheck {:.2}, ArmCheck with shortcut {:.2}; shortcut without spans against with \
-         them {:.2} (0 where a mode was skipped; targets: 100 % of solvable, median <= 1 ms, \
-         p95 <= 20 ms)",
+         them {:.2}; shortcut with continuous motions against discrete {:.2} (0 where a mode \
+         was skipped; targets: 100 % of solvable, median <= 1 ms, p95 <= 20 ms)",
         ratio(0, 3),
         ratio(1, 3),
         ratio(2, 3),
         ratio(4, 3),
         ratio(3, 1),
         ratio(4, 1),
-        ratio(5, 4)
+        ratio(5, 4),
+        ratio(6, 4)
     );
 }
 
@@ -586,7 +622,13 @@ fn profile_one(
 
 /// Medians per mode, with and without simplification, over the problems both solved.
 fn report_profiles(profiles: &[Profile]) {
-    for mode in ["fast", "arm", "arm shortcut", "dense shortcut"] {
+    for mode in [
+        "fast",
+        "arm",
+        "arm shortcut",
+        "dense shortcut",
+        "continuous shortcut",
+    ] {
         for simplified in [true, false] {
             let mut rows: Vec<&Profile> = profiles
                 .iter()

@@ -1,6 +1,7 @@
 //! Kinematics layer: the robot model and inverse kinematics.
 
 mod base_joints;
+mod continuous;
 mod description;
 mod ik;
 mod ik_fast;

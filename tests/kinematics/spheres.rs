@@ -46,7 +46,7 @@ pub(super) fn robots() -> Vec<(&'static str, RobotModel)> {
 /// A random straight motion from a configuration `exact` accepts (at most `tries` drawn):
 /// its start, its end a random direction away, and its joint-space length drawn from
 /// `lengths`; `None` when no start drawn is accepted.
-fn motion_from_free(
+pub(super) fn motion_from_free(
     robot: &RobotModel,
     rng: &mut ChaCha8Rng,
     exact: &dyn Fn(&[f64]) -> bool,
@@ -88,6 +88,11 @@ fn every_state(
 /// A floor slab (top at z = 0), a thin shelf, a post, a ball and a tilted box around a robot
 /// at the origin, within the arms' reach.
 pub(super) fn scene() -> SceneModel {
+    scene_builder().build().unwrap()
+}
+
+/// The builder of [`scene`], to add to.
+pub(super) fn scene_builder() -> SceneModelBuilder {
     let mut b = SceneModelBuilder::new();
     let tilted = Isometry3::new(Vector3::new(-0.65, 0.25, 1.0), Vector3::new(0.3, 0.5, 0.2));
     for (name, shape, pose) in [
@@ -119,7 +124,7 @@ pub(super) fn scene() -> SceneModel {
     ] {
         b.add_base_shape(BaseShape::new(name, shape, pose));
     }
-    b.build().unwrap()
+    b
 }
 
 pub(super) fn random_arm(robot: &RobotModel, rng: &mut ChaCha8Rng) -> DVector<f64> {
@@ -440,7 +445,9 @@ fn arm_motion_check_matches_the_exact_check_of_its_states() {
     for (name, robot) in robots() {
         let collision = RobotCollision::new(&robot).unwrap();
         let spheres = RobotSpheres::new(&robot, &collision, &SphereSettings::default()).unwrap();
-        let check = ArmCheck::new(&robot, &collision, &spheres, edge_scene, [0.0; 3]).unwrap();
+        let check = ArmCheck::new(&robot, &collision, &spheres, edge_scene, [0.0; 3])
+            .unwrap()
+            .with_continuous(false);
         let exact = |q: &[f64]| {
             let poses = robot
                 .link_poses(&RobotConfig {
@@ -502,9 +509,12 @@ fn arm_motion_spans_keep_the_exact_answer() {
     for (name, robot) in robots() {
         let collision = RobotCollision::new(&robot).unwrap();
         let spheres = RobotSpheres::new(&robot, &collision, &SphereSettings::default()).unwrap();
-        let check = ArmCheck::new(&robot, &collision, &spheres, edge_scene, [0.0; 3]).unwrap();
+        let check = ArmCheck::new(&robot, &collision, &spheres, edge_scene, [0.0; 3])
+            .unwrap()
+            .with_continuous(false);
         let dense = ArmCheck::new(&robot, &collision, &spheres, edge_scene, [0.0; 3])
             .unwrap()
+            .with_continuous(false)
             .with_spans(false);
         let exact = |q: &[f64]| {
             let poses = robot
@@ -575,6 +585,7 @@ fn arm_check_with_a_self_margin_gives_the_exact_answer() {
         let spheres = RobotSpheres::new(&robot, &collision, &SphereSettings::default()).unwrap();
         let check = ArmCheck::new(&robot, &collision, &spheres, edge_scene, [0.0; 3])
             .unwrap()
+            .with_continuous(false)
             .with_self_margin(SELF);
         let poses = |q: &[f64]| {
             robot

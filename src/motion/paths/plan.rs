@@ -105,16 +105,18 @@ pub fn plan_arm(
 }
 
 /// [`plan_arm`] with the arm's fast exact check: states by [`ArmCheck::is_valid`], motions by
-/// [`ArmCheck::check_motion`] at [`PathSettings::resolution`] (one call into Rust per motion
-/// in place of one per state, the same states checked as OMPL's discrete motion check would,
-/// scratch reused). The returned path is free at every state that check visits, with the
-/// exact parry answer at each.
+/// [`ArmCheck::check_motion`] (one call into Rust per motion in place of one per state,
+/// scratch reused). With the check's default continuous motions every segment of the
+/// returned path is certified free, however thin the obstacles; with
+/// [`ArmCheck::with_continuous`]`(false)` the states OMPL's discrete motion check would visit
+/// at [`PathSettings::resolution`] are checked, each with the exact parry answer.
 ///
 /// # Errors
 /// As [`plan_arm`].
 ///
 /// [`ArmCheck::is_valid`]: crate::kinematics::robot::ArmCheck::is_valid
 /// [`ArmCheck::check_motion`]: crate::kinematics::robot::ArmCheck::check_motion
+/// [`ArmCheck::with_continuous`]: crate::kinematics::robot::ArmCheck::with_continuous
 pub fn plan_arm_checked(
     start: &[f64],
     goal: &[f64],

@@ -70,10 +70,10 @@ impl StepRefinement<'_, '_> {
             _ => None,
         };
         let certified = |a: &[f64], b: &[f64]| edges.as_ref().is_some_and(|e| e.check(a, b));
-        // With the sphere model and discrete edges, the search checks states and whole
+        // With the sphere model and no edge settings, the search checks states and whole
         // motions with the kinematics layer's fast exact check (the exact answer at every
-        // state, the states OMPL's discrete check would visit, one call per motion); the
-        // dense re-check below stays with this step's own check.
+        // state, every motion certified continuously, one call per motion); the dense
+        // re-check below stays with this step's own check.
         let fast = match (ctx.spheres, &edges) {
             (Some(spheres), None) => Some(
                 FastArmCheck::new(ctx.robot, ctx.collision, spheres, scene, arm.base)?

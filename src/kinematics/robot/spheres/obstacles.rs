@@ -120,6 +120,16 @@ impl SphereObstacles {
         SphereObstacles { sets, index, count }
     }
 
+    /// These obstacles with every reach grown by `band` (m; shrunk for a negative one): a
+    /// sphere then counts as reaching an obstacle within `band` of it, and every gap is
+    /// `band` less.
+    pub(super) fn inflated(mut self, band: f32) -> SphereObstacles {
+        for block in self.sets.iter_mut().flatten() {
+            block.reach += f32x8::splat(band);
+        }
+        self
+    }
+
     /// The number of obstacles (scene shapes not left out by the exemption).
     pub fn len(&self) -> usize {
         self.count

@@ -37,7 +37,21 @@ impl ArmCheck<'_> {
         // Spans under one step certify nothing: stop as soon as the span drops below it.
         let step = 1.0 / n as f64;
         // `cap + 1` steps: the rounding below then gives at most `cap`.
-        let mut span = (cap as f64 + 1.0) * step;
+        let span = self.span(t, (cap as f64 + 1.0) * step, step, s);
+        // Strictly inside the span; the quotient rounded down by a relative hair.
+        let k = (span / step * (1.0 - 1e-9)).floor();
+        if k.is_finite() {
+            (k as usize).min(cap)
+        } else {
+            cap
+        }
+    }
+
+    /// The certified span of the free state `t` in the motion's parameter (see the module's
+    /// bound): every state `t'` with `|t' − t|` below it is free. At most `cap` (bounds that
+    /// already keep `cap` need not be made precise); 0 as soon as it drops below `floor`.
+    pub(super) fn span(&self, t: f64, cap: f64, floor: f64, s: &StateScratch) -> f64 {
+        let mut span = cap;
         // The far links first: they move fastest and come nearest to the scene.
         let links = s.poses.len().min(self.balls.len()).min(s.link_speed.len());
         for l in (0..links).rev() {
@@ -46,8 +60,8 @@ impl ArmCheck<'_> {
                 continue;
             }
             span = narrowed(span, self.link_bound(l, t, s, span * v), v);
-            if span < step {
-                return 0;
+            if span < floor {
+                return 0.0;
             }
         }
         for (p, &(i, k)) in self.spheres.checked_pairs().iter().enumerate() {
@@ -72,17 +86,11 @@ impl ArmCheck<'_> {
                 }
             };
             span = narrowed(span, d - margin, v);
-            if span < step {
-                return 0;
+            if span < floor {
+                return 0.0;
             }
         }
-        // Strictly inside the span; the quotient rounded down by a relative hair.
-        let k = (span / step * (1.0 - 1e-9)).floor();
-        if k.is_finite() {
-            (k as usize).min(cap)
-        } else {
-            cap
-        }
+        span
     }
 
     /// Link `l`'s enclosing ball in the world at the scratch's poses (placed by the broad
@@ -95,9 +103,11 @@ impl ArmCheck<'_> {
     /// margin at the state `t` in the scratch (see the module's lower bounds).
     /// A bound of at least `enough` may be returned without comparing the link's spheres.
     fn link_bound(&self, l: usize, t: f64, s: &StateScratch, enough: f64) -> f64 {
+        // The sphere gaps are to the obstacles grown by the band.
+        let band = self.band;
         let Some(m) = s.links.iter().position(|&x| x == l) else {
             // Computed by the broad phase (`+∞` without a ball).
-            let ball = f64::from(s.ball_gaps.get(l).copied().unwrap_or(f32::INFINITY));
+            let ball = f64::from(s.ball_gaps.get(l).copied().unwrap_or(f32::INFINITY)) + band;
             if ball - CERTIFIED_GAP >= enough {
                 return ball;
             }
@@ -106,12 +116,12 @@ impl ArmCheck<'_> {
                 Some(g) if !g.is_nan() => *g,
                 _ => self.obstacles.link_clearance(&s.spheres, l, &[]),
             };
-            return ball.max(f64::from(spheres));
+            return ball.max(f64::from(spheres) + band);
         };
         let reached = &s.reached[m];
         let margin = self.margin.max(0.0);
         // The broad phase's gap to the obstacles the link's spheres do not reach.
-        let mut d = f64::from(s.link_gaps[l]);
+        let mut d = f64::from(s.link_gaps[l]) + band;
         for (o, _) in reached.iter().enumerate().filter(|(_, r)| **r) {
             let slot = l * self.obstacles.len() + o;
             d = d.min(
