@@ -99,7 +99,8 @@ pub struct PlannerSettings {
     /// whose spheres clear the scene skips the exact scene check; self-collision runs the
     /// exact test only on the link pairs whose spheres meet. Answers stay exact (the spheres
     /// are conservative); only the time changes. `None`: every state is checked exactly with
-    /// parry. Default `Some(SphereSettings::default())`.
+    /// parry. Default `Some(SphereSettings::default())`. With it, the search's motions are
+    /// certified continuously by default ([`PlannerSettings::continuous_arm_motions`]).
     ///
     /// [`RobotSpheres`]: crate::kinematics::robot::RobotSpheres
     /// [`SphereObstacles`]: crate::kinematics::robot::SphereObstacles
@@ -114,6 +115,14 @@ pub struct PlannerSettings {
     ///
     /// [`ArmEdgeCheck`]: crate::kinematics::robot::ArmEdgeCheck
     pub certified_arm_edges: Option<EdgeSettings>,
+    /// With `arm_spheres` (and no `certified_arm_edges`), whether the arm path searches
+    /// certify each motion over its whole length ([`ArmCheck::with_continuous`]: spans of
+    /// exact distance bounds, so nothing is jumped between checked states) rather than at
+    /// states `paths.resolution` apart. Default `true`; `false` gives the discrete check,
+    /// whose every answer equals the exact check's at the same states.
+    ///
+    /// [`ArmCheck::with_continuous`]: crate::kinematics::robot::ArmCheck::with_continuous
+    pub continuous_arm_motions: bool,
     /// Whole-body manipulation: when no single base pose covers a step, the base also moves
     /// during the manipulation, along with the arm ([`plan_whole_body`] with these settings,
     /// from the base pose where the fixed-base arm follows the handle furthest). When the
@@ -166,6 +175,7 @@ impl Default for PlannerSettings {
             max_segments: 4,
             arm_spheres: Some(SphereSettings::default()),
             certified_arm_edges: None,
+            continuous_arm_motions: true,
             whole_body: Some(WholeBodySettings::default()),
         }
     }

@@ -464,9 +464,12 @@ fn the_same_input_gives_the_same_plan() {
 #[test]
 fn the_sphere_fast_path_gives_the_same_plan_as_exact_checks() {
     // The door of `the_same_input_gives_the_same_plan`, planned with the arm checks' sphere
-    // fast path (the default) and without it (`arm_spheres: None`, parry for every state):
-    // the fast path answers every validity query as the exact check does, so the seeded
-    // searches see the same answers and the plans are equal in every field.
+    // fast path (the default) with its discrete motions (`continuous_arm_motions: false`)
+    // and without it (`arm_spheres: None`, parry for every state): the fast path answers
+    // every validity query as the exact check does, so the seeded searches see the same
+    // answers and the plans are equal in every field. (The default continuous motions answer
+    // for the whole motion, not its sampled states: another plan, re-checked by the other
+    // planner tests.)
     let model = contact::counter_with_door();
     let problem = problem(
         &model,
@@ -488,7 +491,10 @@ fn the_sphere_fast_path_gives_the_same_plan_as_exact_checks() {
         }
     };
     assert!(PlannerSettings::default().arm_spheres.is_some());
-    let fast = run(PlannerSettings::default());
+    let fast = run(PlannerSettings {
+        continuous_arm_motions: false,
+        ..PlannerSettings::default()
+    });
     let exact = run(PlannerSettings {
         arm_spheres: None,
         ..PlannerSettings::default()

@@ -72,12 +72,14 @@ impl StepRefinement<'_, '_> {
         let certified = |a: &[f64], b: &[f64]| edges.as_ref().is_some_and(|e| e.check(a, b));
         // With the sphere model and no edge settings, the search checks states and whole
         // motions with the kinematics layer's fast exact check (the exact answer at every
-        // state, every motion certified continuously, one call per motion); the dense
-        // re-check below stays with this step's own check.
+        // state, every motion certified continuously unless the settings ask for the discrete
+        // check, one call per motion); the dense re-check below stays with this step's own
+        // check.
         let fast = match (ctx.spheres, &edges) {
             (Some(spheres), None) => Some(
                 FastArmCheck::new(ctx.robot, ctx.collision, spheres, scene, arm.base)?
-                    .with_self_margin(arm.self_margin),
+                    .with_self_margin(arm.self_margin)
+                    .with_continuous(ctx.settings.continuous_arm_motions),
             ),
             _ => None,
         };
