@@ -59,7 +59,7 @@ use super::{RobotCollision, RobotError, RobotModel};
 use crate::InvalidSetting;
 
 pub(crate) use arm::levers;
-pub use arm::{ArmCheck, ArmCheckData};
+pub use arm::{ArmCheck, ArmCheckData, CONTACT_CLEARANCE, CONTINUOUS_BAND, MAX_CONTINUOUS_STATES};
 pub use check::{SPHERE_SLACK, SphereData};
 pub use cover::CELL_SLACK;
 pub use edge::{ArmEdgeCheck, EdgeScene, EdgeSettings};
