@@ -54,7 +54,7 @@ use kinscene::kinematics::robot::{
     Srdf,
 };
 use kinscene::motion::paths::{
-    MotionCheck, PathOutcome, PathSettings, Simplifier, first_invalid, plan_arm,
+    MotionCheck, PathOutcome, PathSettings, Simplifier, first_invalid, plan_arm, plan_arm_checked,
     plan_arm_with_motion,
 };
 use kinscene::scene::{
@@ -471,17 +471,35 @@ fn main() {
             {
                 continue;
             }
+            // The `ArmCheck` modes through the public call a user makes, `plan_arm_checked`.
+            let arm_check = match k {
+                3 | 4 => Some(&arm),
+                5 => Some(&dense),
+                6 => Some(&continuous),
+                _ => None,
+            };
             let t0 = Instant::now();
-            let outcome = plan_arm_with_motion(
-                &problem.start,
-                &problem.goal,
-                &lower,
-                &upper,
-                check,
-                motion,
-                settings,
-                &Termination::none(),
-            )
+            let outcome = match arm_check {
+                Some(arm_check) => plan_arm_checked(
+                    &problem.start,
+                    &problem.goal,
+                    &lower,
+                    &upper,
+                    arm_check,
+                    settings,
+                    &Termination::none(),
+                ),
+                None => plan_arm_with_motion(
+                    &problem.start,
+                    &problem.goal,
+                    &lower,
+                    &upper,
+                    check,
+                    motion,
+                    settings,
+                    &Termination::none(),
+                ),
+            }
             .expect("valid input");
             let elapsed = t0.elapsed();
             stat.times.push(elapsed);

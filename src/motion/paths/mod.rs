@@ -74,8 +74,10 @@ pub struct PathSettings {
     /// Validity-check spacing along motions, in the space's distance (SE(2): metres plus
     /// half the yaw difference in radians, OMPL's weighting; joint space: the Euclidean norm,
     /// radians or metres). Handed to OMPL as the fraction `resolution / maximum extent` of the
-    /// space (capped at 0.5). Default 0.01. An obstacle thinner than this may be jumped over:
-    /// the validity closure should keep a clearance margin that covers it.
+    /// space (capped at 0.5). Default 0.01. With a validity closure only, an obstacle thinner
+    /// than this may be jumped over: the closure should keep a clearance margin that covers
+    /// it. [`plan_arm_checked`] with its `ArmCheck`'s default continuous motions does not use
+    /// it: every motion is certified whole.
     pub resolution: f64,
     /// Largest extension of the planner's trees, in the same distance as `resolution`
     /// (OMPL's `range`); `None` (default): OMPL's own, a fifth of the space's maximum extent

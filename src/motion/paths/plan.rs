@@ -129,13 +129,14 @@ pub fn plan_arm_checked(
     let valid = |q: &[f64]| check.is_valid(q);
     let resolution = settings.resolution;
     let motion = |a: &[f64], b: &[f64]| check.check_motion(a, b, resolution);
-    plan_arm_with_motion(
+    // `check_motion` checks its end state itself.
+    plan_arm_inner(
         start,
         goal,
         lower,
         upper,
         &valid,
-        Some(&motion),
+        Some((&motion, true)),
         settings,
         termination,
     )
@@ -165,6 +166,31 @@ pub fn plan_arm_with_motion(
     upper: &[f64],
     valid: &(dyn Fn(&[f64]) -> bool + Sync),
     motion: Option<&MotionCheck<'_>>,
+    settings: &PathSettings,
+    termination: &crate::control::Termination<'_>,
+) -> Result<PathOutcome, PathError> {
+    plan_arm_inner(
+        start,
+        goal,
+        lower,
+        upper,
+        valid,
+        motion.map(|m| (m, false)),
+        settings,
+        termination,
+    )
+}
+
+/// [`plan_arm_with_motion`], the motion check with whether it checks its end state itself
+/// (then `valid` is not asked for it first).
+#[allow(clippy::too_many_arguments)]
+fn plan_arm_inner(
+    start: &[f64],
+    goal: &[f64],
+    lower: &[f64],
+    upper: &[f64],
+    valid: &(dyn Fn(&[f64]) -> bool + Sync),
+    motion: Option<(&MotionCheck<'_>, bool)>,
     settings: &PathSettings,
     termination: &crate::control::Termination<'_>,
 ) -> Result<PathOutcome, PathError> {
@@ -224,7 +250,8 @@ pub fn plan_arm_with_motion(
         upper: window_upper,
     };
     let checker = |q: &[f64]| valid(q);
-    let whole = motion.map(|m| move |a: &[f64], b: &[f64]| valid(b) && m(a, b));
+    let whole = motion
+        .map(|(m, checks_end)| move |a: &[f64], b: &[f64]| (checks_end || valid(b)) && m(a, b));
     let whole = whole.as_ref().map(|m| m as &dyn MotionValidator);
     let problem = Problem::new(space, start.to_vec(), goal.to_vec());
     let settings = &PathSettings {
