@@ -21,7 +21,7 @@
 //! [`ContactWalk`] walks a timed motion, of the arm or of the whole robot, with the steps
 //! these bounds allow.
 
-use super::super::spheres::{Sphere, levers};
+use super::super::spheres::{Sphere, chain_step, levers};
 use super::{Exempt, RobotCollision, RobotModel};
 use crate::scene::{SceneData, SceneModel};
 
@@ -137,18 +137,7 @@ fn radius(robot: &RobotModel, cover: &[Sphere], l: usize) -> f64 {
     if l == 0 {
         return reach;
     }
-    let chain: f64 = robot
-        .arm_joints()
-        .iter()
-        .take(l)
-        .map(|j| {
-            let travel = match j.kind {
-                super::super::ArmJointKind::Prismatic => j.lower.abs().max(j.upper.abs()),
-                _ => 0.0,
-            };
-            j.parent_from_joint.translation.vector.norm() + travel
-        })
-        .sum();
+    let chain: f64 = robot.arm_joints().iter().take(l).map(chain_step).sum();
     robot.base_from_arm_root().translation.vector.norm() + chain + reach
 }
 

@@ -42,12 +42,15 @@ use nalgebra::{Isometry3, Point3};
 
 use super::check::SPHERE_SLACK;
 use super::obstacles::GapScratch;
-use super::{EdgeScene, RobotSpheres, SphereData, SphereObstacles};
+use super::{EdgeScene, RobotSpheres, SphereData, SphereObstacles, levers};
 use crate::kinematics::robot::collision::PlacedScene;
-use crate::kinematics::robot::{ArmJoint, ArmJointKind, RobotCollision, RobotError, RobotModel};
+use crate::kinematics::robot::{RobotCollision, RobotError, RobotModel};
 
 mod bounds;
+mod continuous;
 mod span;
+
+pub use continuous::{CONTACT_CLEARANCE, CONTINUOUS_BAND, MAX_CONTINUOUS_STATES};
 
 use bounds::Bounds;
 
@@ -154,23 +157,6 @@ const CERTIFIED_GAP: f64 = 1e-6;
 /// reach, never an answer: on MotionBenchMaker 2 cm costs fewer instructions than 1 or 5 cm
 /// (GJK stopped sooner against states re-checked more often).
 const BOUND_CUTOFF: f64 = 0.02;
-
-/// The clearance (m) below which a continuous motion check ([`ArmCheck::with_continuous`])
-/// rejects a motion: it would otherwise creep towards a contact in ever smaller spans.
-pub const CONTACT_CLEARANCE: f64 = 1e-5;
-
-/// The most states a continuous motion check evaluates before it rejects the motion (one
-/// that stays within a hair of something for long). On MotionBenchMaker no motion needed
-/// more than 1026 (most need at most 16).
-pub const MAX_CONTINUOUS_STATES: usize = 10_000;
-
-/// Added to an interval's half-length when capping a span: a span that reaches past the
-/// interval's ends covers them (the spans are open intervals).
-const CAP_SLACK: f64 = 1e-12;
-
-/// How near (m) a link's spheres come to an obstacle, or a checked pair's spheres to each
-/// other, before a continuous motion check computes their exact distance.
-pub const CONTINUOUS_BAND: f64 = 0.005;
 
 thread_local! {
     /// Per-thread scratch of [`ArmCheck::is_valid`] and [`ArmCheck::check_motion`].
@@ -404,73 +390,6 @@ impl<'a> ArmCheck<'a> {
         true
     }
 
-    /// The continuous motion check ([`ArmCheck::with_continuous`]), the motion's speeds and
-    /// bounds set up in `data`: `b`, then `a`, then the middle of each interval of the
-    /// parameter that no evaluated state's span covers yet.
-    fn certify_motion(&self, a: &[f64], b: &[f64], data: &mut ArmCheckData) -> bool {
-        let fastest = data
-            .state
-            .link_speed
-            .iter()
-            .chain(&data.state.speed)
-            .fold(0.0, |m: f64, &v| m.max(v));
-        if fastest <= 0.0 {
-            // The arm does not move: `a` is taken as valid, and `b` is `a`.
-            return self.state_valid(b, None, &mut data.state);
-        }
-        let floor = CONTACT_CLEARANCE / fastest;
-        // The span of the free state at `t`, capped at `cap` (`None`: not free, or too close).
-        let mut evaluated = 0;
-        let mut span_at = |t: f64, cap: f64, data: &mut ArmCheckData| -> Option<f64> {
-            evaluated += 1;
-            if evaluated > MAX_CONTINUOUS_STATES {
-                return None;
-            }
-            data.q.clear();
-            data.q.extend(a.iter().zip(b).map(|(x, y)| x + (y - x) * t));
-            // Evaluated afresh even when it was the last valid one: its bounds are needed.
-            data.state.last_valid.clear();
-            let q = std::mem::take(&mut data.q);
-            let free = self.state_valid(&q, Some(t), &mut data.state);
-            data.q = q;
-            if !free {
-                return None;
-            }
-            let span = self.span(t, cap, floor, &data.state);
-            (span >= floor).then_some(span)
-        };
-        // The open span around each evaluated state is free; `pending` holds the closed
-        // intervals still to certify, in bisection order (a blocked motion is found early).
-        let mut pending = std::mem::take(&mut data.intervals);
-        pending.clear();
-        let certified = 'walk: {
-            let Some(end) = span_at(1.0, 1.0 + CAP_SLACK, data) else {
-                break 'walk false;
-            };
-            if end <= 1.0 {
-                let Some(start) = span_at(0.0, (1.0 - end) + CAP_SLACK, data) else {
-                    break 'walk false;
-                };
-                if start <= 1.0 - end {
-                    pending.push_back((start, 1.0 - end));
-                }
-            }
-            while let Some((x, y)) = pending.pop_front() {
-                let (m, half) = (0.5 * (x + y), 0.5 * (y - x));
-                let Some(span) = span_at(m, half + CAP_SLACK, data) else {
-                    break 'walk false;
-                };
-                if span <= half {
-                    pending.push_back((x, m - span));
-                    pending.push_back((m + span, y));
-                }
-            }
-            true
-        };
-        data.intervals = pending;
-        certified
-    }
-
     /// The state check: forward kinematics, the sphere broad phase, parry where it is needed.
     /// Along a motion (`at`: the state's parameter in it, with `s.speed` and `s.bound` set up
     /// for the motion), a pair whose last distance bound, less the most its links can have
@@ -642,68 +561,4 @@ impl<'a> ArmCheck<'a> {
             }
         }
     }
-}
-
-/// For links `i < k`: the arm joints `j` with `i <= j < k` (those that move link `k` but not
-/// link `i`; joint `j` moves links `j + 1 ..`) with lever arm `λ_j`, so that along a straight
-/// motion with joint displacements `Δq`, no point of link `k` moves relative to link `i` by
-/// more than `Σ_j |Δq_j|·λ_j` per unit of the motion's parameter. Revolute `j`: `λ_j` bounds
-/// the distance from the joint's axis to any point of link `k`: for the last joint
-/// (`j = k − 1`, link `k`'s origin on its axis, the axis fixed in link `k`'s frame) the
-/// largest distance `|c⊥| + r` of link `k`'s spheres from the axis (`c⊥`: the centre's
-/// component normal to it); for an earlier one the offsets from link `j + 1`'s origin (on the
-/// axis) down the chain to link `k`'s origin (a prismatic joint in between adding its largest
-/// travel), plus the largest `|c| + r` of link `k`'s spheres. The spheres contain the link's
-/// shapes. Prismatic `j`: `λ_j = 1`. The relative velocity is `Σ_j q̇_j·(ω_j × (p − o_j))`
-/// (revolute) `+ Σ_j q̇_j·v_j` (prismatic), whose norm is at most that sum.
-/// `links`: the sphere covers, per link (as [`RobotSpheres::links`]).
-pub(crate) fn levers(
-    robot: &RobotModel,
-    links: &[Vec<super::Sphere>],
-    i: usize,
-    k: usize,
-) -> Vec<(usize, f64)> {
-    let joints = robot.arm_joints();
-    let step = |j: &ArmJoint| {
-        let travel = match j.kind {
-            ArmJointKind::Prismatic => j.lower.abs().max(j.upper.abs()),
-            _ => 0.0,
-        };
-        j.parent_from_joint.translation.vector.norm() + travel
-    };
-    let reach = links.get(k).map_or(0.0, |l| {
-        l.iter()
-            .map(|s| s.center.coords.norm() + s.radius)
-            .fold(0.0, f64::max)
-    });
-    (i..k.min(joints.len()))
-        .map(|j| {
-            let lever = match joints[j].kind {
-                ArmJointKind::Prismatic => 1.0,
-                _ if j + 1 == k => {
-                    // Link k's frame is the joint's frame turned about the axis: the axis has
-                    // the same components in it and passes through its origin.
-                    let axis = joints[j].axis;
-                    links.get(k).map_or(0.0, |l| {
-                        l.iter()
-                            .map(|s| {
-                                let c = s.center.coords;
-                                (c - axis.into_inner() * c.dot(&axis)).norm() + s.radius
-                            })
-                            .fold(0.0, f64::max)
-                    })
-                }
-                _ => {
-                    joints
-                        .get(j + 1..k)
-                        .unwrap_or(&[])
-                        .iter()
-                        .map(step)
-                        .sum::<f64>()
-                        + reach
-                }
-            };
-            (j, lever)
-        })
-        .collect()
 }

@@ -50,6 +50,7 @@ mod check;
 mod clip;
 mod cover;
 mod edge;
+mod levers;
 mod obstacles;
 mod table;
 
@@ -58,11 +59,11 @@ use nalgebra::Point3;
 use super::{RobotCollision, RobotError, RobotModel};
 use crate::InvalidSetting;
 
-pub(crate) use arm::levers;
 pub use arm::{ArmCheck, ArmCheckData, CONTACT_CLEARANCE, CONTINUOUS_BAND, MAX_CONTINUOUS_STATES};
 pub use check::{SPHERE_SLACK, SphereData};
 pub use cover::CELL_SLACK;
 pub use edge::{ArmEdgeCheck, EdgeScene, EdgeSettings};
+pub(crate) use levers::{chain_step, levers};
 pub use obstacles::SphereObstacles;
 
 /// A sphere: centre and radius (m).

@@ -93,7 +93,7 @@ impl PairTable {
         if !(i < k && k - i <= 2 && k <= joints.len()) {
             return None;
         }
-        let levers = super::arm::levers(robot, links, i, k);
+        let levers = super::levers(robot, links, i, k);
         let mut axes = Vec::new();
         for (j, lever) in levers {
             let joint = &joints[j];
