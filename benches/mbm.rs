@@ -347,64 +347,28 @@ fn main() {
                         .scene_collision(&p, &model, &data, Exempt::Nothing, 0.0)
                         .is_none())
         };
+        let edge_scene = EdgeScene {
+            model: &model,
+            data: &data,
+            exempt: Exempt::Nothing,
+            margin: 0.0,
+        };
         let edges = ArmEdgeCheck::new(
             &robot,
             &collision,
             &spheres,
-            EdgeScene {
-                model: &model,
-                data: &data,
-                exempt: Exempt::Nothing,
-                margin: 0.0,
-            },
+            edge_scene,
             [0.0; 3],
             &EdgeSettings::default(),
         )
         .expect("edge check");
         let certified = |a: &[f64], b: &[f64]| edges.check(a, b);
-        let arm = ArmCheck::new(
-            &robot,
-            &collision,
-            &spheres,
-            EdgeScene {
-                model: &model,
-                data: &data,
-                exempt: Exempt::Nothing,
-                margin: 0.0,
-            },
-            [0.0; 3],
-        )
-        .expect("arm check")
-        .with_continuous(false)
-        .with_spans(!no_spans);
-        let dense = ArmCheck::new(
-            &robot,
-            &collision,
-            &spheres,
-            EdgeScene {
-                model: &model,
-                data: &data,
-                exempt: Exempt::Nothing,
-                margin: 0.0,
-            },
-            [0.0; 3],
-        )
-        .expect("arm check")
-        .with_continuous(false)
-        .with_spans(false);
-        let continuous = ArmCheck::new(
-            &robot,
-            &collision,
-            &spheres,
-            EdgeScene {
-                model: &model,
-                data: &data,
-                exempt: Exempt::Nothing,
-                margin: 0.0,
-            },
-            [0.0; 3],
-        )
-        .expect("arm check");
+        let arm_check = || {
+            ArmCheck::new(&robot, &collision, &spheres, edge_scene, [0.0; 3]).expect("arm check")
+        };
+        let arm = arm_check().with_continuous(false).with_spans(!no_spans);
+        let dense = arm_check().with_continuous(false).with_spans(false);
+        let continuous = arm_check();
         let arm_valid = |q: &[f64]| arm.is_valid(q);
         let arm_motion = |a: &[f64], b: &[f64]| arm.check_motion(a, b, settings.resolution);
         let dense_valid = |q: &[f64]| dense.is_valid(q);

@@ -3,14 +3,14 @@
 //! exact check.
 
 use kinscene::kinematics::robot::{
-    ArmCheck, EdgeScene, Exempt, RobotCollision, RobotConfig, RobotSpheres, SphereSettings,
+    ArmCheck, EdgeScene, Exempt, RobotCollision, RobotSpheres, SphereSettings,
 };
 use kinscene::scene::{BaseShape, SceneData, Shape, State, forward_kinematics};
-use nalgebra::{DVector, Isometry3, Vector3};
+use nalgebra::{Isometry3, Vector3};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::spheres::{motion_from_free, robots, scene_builder};
+use super::spheres::{exact_free, motion_from_free, robots, scene_builder};
 
 /// On 60 seeded motions per robot (Gen3, Panda, TIAGo; from a free configuration, 0.3 to
 /// 2 rad long) among the sphere tests' obstacles and three thin ones (a 1 mm plate, a 1 mm
@@ -63,18 +63,7 @@ fn the_continuous_check_accepts_no_motion_that_touches() {
             .with_continuous(false);
         // The default.
         let continuous = ArmCheck::new(&robot, &collision, &spheres, edge_scene, [0.0; 3]).unwrap();
-        let exact = |q: &[f64]| {
-            let poses = robot
-                .link_poses(&RobotConfig {
-                    base: [0.0; 3],
-                    arm: DVector::from_column_slice(q),
-                })
-                .unwrap();
-            collision.self_collision(&poses).is_none()
-                && collision
-                    .scene_collision(&poses, &model, &data, Exempt::Nothing, 0.0)
-                    .is_none()
-        };
+        let exact = exact_free(&robot, &collision, &model, &data, 0.0);
         let mut rng = ChaCha8Rng::seed_from_u64(17);
         let (mut free, mut accepted_free, mut touching) = (0, 0, 0);
         let mut motions = 0;

@@ -85,6 +85,29 @@ fn every_state(
         })
 }
 
+/// Whether arm configuration `q` of `robot` (base at the origin) is free in the exact parry
+/// model: no self-collision, no scene shape within `margin`.
+pub(super) fn exact_free<'a>(
+    robot: &'a RobotModel,
+    collision: &'a RobotCollision,
+    model: &'a SceneModel,
+    data: &'a SceneData,
+    margin: f64,
+) -> impl Fn(&[f64]) -> bool + 'a {
+    move |q: &[f64]| {
+        let poses = robot
+            .link_poses(&RobotConfig {
+                base: [0.0; 3],
+                arm: DVector::from_column_slice(q),
+            })
+            .unwrap();
+        collision.self_collision(&poses).is_none()
+            && collision
+                .scene_collision(&poses, model, data, Exempt::Nothing, margin)
+                .is_none()
+    }
+}
+
 /// A floor slab (top at z = 0), a thin shelf, a post, a ball and a tilted box around a robot
 /// at the origin, within the arms' reach.
 pub(super) fn scene() -> SceneModel {
@@ -448,18 +471,7 @@ fn arm_motion_check_matches_the_exact_check_of_its_states() {
         let check = ArmCheck::new(&robot, &collision, &spheres, edge_scene, [0.0; 3])
             .unwrap()
             .with_continuous(false);
-        let exact = |q: &[f64]| {
-            let poses = robot
-                .link_poses(&RobotConfig {
-                    base: [0.0; 3],
-                    arm: DVector::from_column_slice(q),
-                })
-                .unwrap();
-            collision.self_collision(&poses).is_none()
-                && collision
-                    .scene_collision(&poses, &model, &data, Exempt::Nothing, MARGIN)
-                    .is_none()
-        };
+        let exact = exact_free(&robot, &collision, &model, &data, MARGIN);
         let mut rng = ChaCha8Rng::seed_from_u64(37);
         let (mut accepted, mut rejected) = (0, 0);
         while accepted + rejected < 300 {
@@ -516,18 +528,7 @@ fn arm_motion_spans_keep_the_exact_answer() {
             .unwrap()
             .with_continuous(false)
             .with_spans(false);
-        let exact = |q: &[f64]| {
-            let poses = robot
-                .link_poses(&RobotConfig {
-                    base: [0.0; 3],
-                    arm: DVector::from_column_slice(q),
-                })
-                .unwrap();
-            collision.self_collision(&poses).is_none()
-                && collision
-                    .scene_collision(&poses, &model, &data, Exempt::Nothing, MARGIN)
-                    .is_none()
-        };
+        let exact = exact_free(&robot, &collision, &model, &data, MARGIN);
         let mut scratch = ArmCheckData::default();
         let mut rng = ChaCha8Rng::seed_from_u64(41);
         let (mut accepted, mut rejected) = (0, 0);

@@ -166,10 +166,7 @@ fn the_walk_stops_at_a_thin_plate_across_the_sweep() {
             .scene_collision(&poses(&robot, &at(t)), &model, &data, Exempt::Nothing, 0.0)
             .is_some()
     };
-    let first = (0..=10_000)
-        .map(|i| i as f64 * 1e-4)
-        .find(|&t| touches(t))
-        .expect("the plate is across the sweep");
+    let first = first_sampled(&touches, "the plate is across the sweep");
     let speed = vec![0.8; dof];
     let walk = ContactWalk {
         robot: &robot,
@@ -233,10 +230,7 @@ fn the_walk_stops_at_a_thin_door_turning_into_the_robot() {
             .scene_collision(&poses(&robot, &stow), &model, &data, Exempt::Nothing, 0.0)
             .is_some()
     };
-    let first = (0..=10_000)
-        .map(|i| i as f64 * 1e-4)
-        .find(|&t| touches(t))
-        .expect("the door turns into the robot");
+    let first = first_sampled(&touches, "the door turns into the robot");
     let mut data = SceneData::new(&model);
     assert!(data_at(0.0, &mut data));
     let still = vec![0.0; robot.dof()];
@@ -300,10 +294,7 @@ fn the_walk_stops_at_a_thin_plate_in_the_base_s_sweep() {
             .scene_collision(&at(t), &model, &data, Exempt::Nothing, 0.0)
             .is_some()
     };
-    let first = (0..=10_000)
-        .map(|i| i as f64 * 1e-4)
-        .find(|&t| touches(t))
-        .expect("the plate is across the sweep");
+    let first = first_sampled(&touches, "the plate is across the sweep");
     let still = vec![0.0; robot.dof()];
     let walk = ContactWalk {
         robot: &robot,
@@ -326,6 +317,15 @@ fn the_walk_stops_at_a_thin_plate_in_the_base_s_sweep() {
     assert_stops_at(&walk, &trajectory, first);
     let before = first - 0.01;
     assert!((0..=1000).all(|i| !touches(before * i as f64 / 1000.0)));
+}
+
+/// The first of the times `0, 0.1 ms, …, 1 s` at which `touches` (dense sampling of the exact
+/// check); `expect` names the contact the test set up.
+fn first_sampled(touches: &dyn Fn(f64) -> bool, expect: &str) -> f64 {
+    (0..=10_000)
+        .map(|i| i as f64 * 1e-4)
+        .find(|&t| touches(t))
+        .expect(expect)
 }
 
 /// The walk over `[0, 1]` s stops at a contact at or before `first` (the first contact dense
