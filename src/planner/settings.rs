@@ -109,9 +109,11 @@ pub struct PlannerSettings {
     /// it free along its whole length (conservative advancement, [`ArmEdgeCheck`], with the
     /// exact distance where spheres come close), instead of checking states every
     /// `paths.resolution`: no obstacle thinner than that spacing is jumped. Needs
-    /// `arm_spheres`. It is slower and, near obstacles, finds fewer paths (see the `mbm`
-    /// bench); the dense re-check of every path runs either way. `None` (the default):
-    /// OMPL's discrete motion check.
+    /// `arm_spheres`. The default continuous motions ([`PlannerSettings::continuous_arm_motions`])
+    /// give the same guarantee faster and find more paths (on the `mbm` bench: 625 of 630
+    /// problems at a 3.3 ms median against 611 at 398 ms); this stays for comparison. The
+    /// dense re-check of every path runs either way. `None` (the default): the arm check's
+    /// own motions.
     ///
     /// [`ArmEdgeCheck`]: crate::kinematics::robot::ArmEdgeCheck
     pub certified_arm_edges: Option<EdgeSettings>,
