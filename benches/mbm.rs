@@ -1,9 +1,8 @@
 //! MotionBenchMaker on the Panda (VAMP's 700 problems: 7 scene families × 100), planned with
 //! the crate's public arm planner ([`plan_arm`], OMPL RRTConnect) in six modes from the same
 //! run: validity by the exact parry check, by the sphere fast path ([`RobotSpheres`] against
-//! [`SphereObstacles`], exact fallback), both with OMPL's discrete motion check, and the fast
-//! path with certified edges ([`ArmEdgeCheck`] through [`plan_arm_with_motion`]), and
-//! [`ArmCheck`] with OMPL's full simplifier, with [`Simplifier::Shortcut`], and with the
+//! [`SphereObstacles`], exact fallback), both with OMPL's discrete motion check, and
+//! [`ArmCheck`] ([`plan_arm_checked`]) with its discrete motions and OMPL's full simplifier, with [`Simplifier::Shortcut`], and with the
 //! shortcut simplifier and [`ArmCheck::with_spans`] off (every state of a motion evaluated,
 //! the same answers: the spans' saving from the same run), and with the shortcut simplifier
 //! and every motion certified continuously ([`ArmCheck::with_continuous`]). Prints the
@@ -39,7 +38,6 @@
 //!
 //! [`plan_arm`]: kinscene::motion::paths::plan_arm
 //! [`plan_arm_with_motion`]: kinscene::motion::paths::plan_arm_with_motion
-//! [`ArmEdgeCheck`]: kinscene::kinematics::robot::ArmEdgeCheck
 //! [`first_invalid`]: kinscene::motion::paths::first_invalid
 //! [`PathSettings::default`]: kinscene::motion::paths::PathSettings
 
@@ -49,9 +47,8 @@ use std::time::{Duration, Instant};
 
 use kinscene::Termination;
 use kinscene::kinematics::robot::{
-    ArmCheck, ArmEdgeCheck, EdgeScene, EdgeSettings, Exempt, RobotCollision, RobotConfig,
-    RobotImportOptions, RobotModel, RobotSpheres, SphereData, SphereObstacles, SphereSettings,
-    Srdf,
+    ArmCheck, EdgeScene, Exempt, RobotCollision, RobotConfig, RobotImportOptions, RobotModel,
+    RobotSpheres, SphereData, SphereObstacles, SphereSettings, Srdf,
 };
 use kinscene::motion::paths::{
     MotionCheck, PathOutcome, PathSettings, Simplifier, first_invalid, plan_arm, plan_arm_checked,
@@ -65,11 +62,11 @@ use serde::Deserialize;
 
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 
-/// Planning modes: exact, sphere fast path, certified edges, [`ArmCheck`] with OMPL's full
+/// Planning modes: exact, sphere fast path, [`ArmCheck`] with OMPL's full
 /// simplifier and with [`Simplifier::Shortcut`], the latter evaluating every state of a
 /// motion ([`ArmCheck::with_spans`] off, for the spans' saving), and the latter certifying
 /// every motion continuously ([`ArmCheck::with_continuous`]).
-const MODES: usize = 7;
+const MODES: usize = 6;
 
 #[derive(Deserialize)]
 struct Problem {
@@ -243,7 +240,6 @@ fn main() {
         .find_map(|a| a.parse().ok())
         .unwrap_or(100);
     let with_exact = !std::env::args().any(|a| a == "no-exact");
-    let with_certified = !std::env::args().any(|a| a == "no-certified");
     let with_fast = !std::env::args().any(|a| a == "no-fast");
     let profile = std::env::args().any(|a| a == "profile");
     // `only=K`: run mode K alone (0-based, the order of `names` below; for instruction counts
@@ -353,16 +349,6 @@ fn main() {
             exempt: Exempt::Nothing,
             margin: 0.0,
         };
-        let edges = ArmEdgeCheck::new(
-            &robot,
-            &collision,
-            &spheres,
-            edge_scene,
-            [0.0; 3],
-            &EdgeSettings::default(),
-        )
-        .expect("edge check");
-        let certified = |a: &[f64], b: &[f64]| edges.check(a, b);
         let arm_check = || {
             ArmCheck::new(&robot, &collision, &spheres, edge_scene, [0.0; 3]).expect("arm check")
         };
@@ -379,7 +365,6 @@ fn main() {
         let modes: [(&Checker<'_>, Option<&MotionCheck<'_>>, &PathSettings); MODES] = [
             (&exact, None, &settings),
             (&fast, None, &settings),
-            (&fast, Some(&certified), &settings),
             (&arm_valid, Some(&arm_motion), &settings),
             (&arm_valid, Some(&arm_motion), &shortcut),
             (&dense_valid, Some(&dense_motion), &shortcut),
@@ -392,16 +377,16 @@ fn main() {
             };
             for (k, name) in [
                 (1, "fast"),
-                (3, "arm"),
-                (4, "arm shortcut"),
-                (5, "dense shortcut"),
-                (6, "continuous shortcut"),
+                (2, "arm"),
+                (3, "arm shortcut"),
+                (4, "dense shortcut"),
+                (5, "continuous shortcut"),
             ] {
                 if k == 1 && !with_fast {
                     continue;
                 }
                 let (check, motion, s) = modes[k];
-                let runs: &[(bool, &PathSettings)] = if k == 4 || k == 5 {
+                let runs: &[(bool, &PathSettings)] = if k == 3 || k == 4 {
                     &[(true, s)]
                 } else {
                     &[(true, s), (false, &settings_off)]
@@ -428,18 +413,14 @@ fn main() {
             warmed = true;
         }
         for (k, (stat, (check, motion, settings))) in stats.iter_mut().zip(modes).enumerate() {
-            if k == 0 && !with_exact
-                || k == 1 && !with_fast
-                || k == 2 && !with_certified
-                || only.is_some_and(|o| o != k)
-            {
+            if k == 0 && !with_exact || k == 1 && !with_fast || only.is_some_and(|o| o != k) {
                 continue;
             }
             // The `ArmCheck` modes through the public call a user makes, `plan_arm_checked`.
             let arm_check = match k {
-                3 | 4 => Some(&arm),
-                5 => Some(&dense),
-                6 => Some(&continuous),
+                2 | 3 => Some(&arm),
+                4 => Some(&dense),
+                5 => Some(&continuous),
                 _ => None,
             };
             let t0 = Instant::now();
@@ -498,7 +479,6 @@ fn main() {
     let names = [
         "exact parry",
         "sphere fast path",
-        "fast path, certified edges",
         "ArmCheck, motions in Rust",
         "ArmCheck, shortcut simplifier",
         "shortcut, no spans",
@@ -528,18 +508,17 @@ fn main() {
     let ratio = |a: usize, b: usize| medians[a].as_secs_f64() / medians[b].as_secs_f64().max(1e-12);
     println!(
         "median ratios against ArmCheck (full simplifier): exact {:.2}, fast path {:.2}, \
-         certified {:.2}, ArmCheck with shortcut simplifier {:.2}; against the fast path: \
+         ArmCheck with shortcut simplifier {:.2}; against the fast path: \
          ArmCheck {:.2}, ArmCheck with shortcut {:.2}; shortcut without spans against with \
          them {:.2}; shortcut with continuous motions against discrete {:.2} (0 where a mode \
          was skipped; targets: 100 % of solvable, median <= 1 ms, p95 <= 20 ms)",
-        ratio(0, 3),
-        ratio(1, 3),
-        ratio(2, 3),
-        ratio(4, 3),
+        ratio(0, 2),
+        ratio(1, 2),
+        ratio(3, 2),
+        ratio(2, 1),
         ratio(3, 1),
-        ratio(4, 1),
-        ratio(5, 4),
-        ratio(6, 4)
+        ratio(4, 3),
+        ratio(5, 3)
     );
 }
 

@@ -7,7 +7,7 @@ use nalgebra::DVector;
 use super::PlannerError;
 use crate::InvalidSetting;
 use crate::kinematics::ik::IkSettings;
-use crate::kinematics::robot::{EdgeSettings, RobotModel, SphereSettings};
+use crate::kinematics::robot::{RobotModel, SphereSettings};
 use crate::motion::paths::{PathSettings, Simplifier};
 use crate::motion::placement::{PlacementError, PlacementSettings, WholeBodySettings};
 use crate::motion::timing::BlendSettings;
@@ -105,19 +105,7 @@ pub struct PlannerSettings {
     /// [`RobotSpheres`]: crate::kinematics::robot::RobotSpheres
     /// [`SphereObstacles`]: crate::kinematics::robot::SphereObstacles
     pub arm_spheres: Option<SphereSettings>,
-    /// Certified arm edges: OMPL accepts an arm path's edge only when the sphere model proves
-    /// it free along its whole length (conservative advancement, [`ArmEdgeCheck`], with the
-    /// exact distance where spheres come close), instead of checking states every
-    /// `paths.resolution`: no obstacle thinner than that spacing is jumped. Needs
-    /// `arm_spheres`. The default continuous motions ([`PlannerSettings::continuous_arm_motions`])
-    /// give the same guarantee faster and find more paths (on the `mbm` bench: 625 of 630
-    /// problems at a 3.3 ms median against 611 at 398 ms); this stays for comparison. The
-    /// dense re-check of every path runs either way. `None` (the default): the arm check's
-    /// own motions.
-    ///
-    /// [`ArmEdgeCheck`]: crate::kinematics::robot::ArmEdgeCheck
-    pub certified_arm_edges: Option<EdgeSettings>,
-    /// With `arm_spheres` (and no `certified_arm_edges`), whether the arm path searches
+    /// With `arm_spheres`, whether the arm path searches
     /// certify each motion over its whole length ([`ArmCheck::with_continuous`]: spans of
     /// exact distance bounds, so nothing is jumped between checked states) rather than at
     /// states `paths.resolution` apart. Default `true`; `false` gives the discrete check,
@@ -176,7 +164,6 @@ impl Default for PlannerSettings {
             manipulation_blend: 0.002,
             max_segments: 4,
             arm_spheres: Some(SphereSettings::default()),
-            certified_arm_edges: None,
             continuous_arm_motions: true,
             whole_body: Some(WholeBodySettings::default()),
         }
@@ -223,21 +210,6 @@ impl PlannerSettings {
                 field: format!("arm_spheres.{}", e.field),
                 ..e
             })?;
-        }
-        if let Some(edges) = &self.certified_arm_edges {
-            edges.validate().map_err(|e| InvalidSetting {
-                field: format!("certified_arm_edges.{}", e.field),
-                ..e
-            })?;
-            if self.arm_spheres.is_none() {
-                return Err(InvalidSetting::new(
-                    "arm_spheres",
-                    0.0,
-                    "set (not None) with certified_arm_edges: the edge bound uses the sphere \
-                     model",
-                )
-                .into());
-            }
         }
         if let Some(whole_body) = &self.whole_body {
             whole_body.validate().map_err(|e| match e {

@@ -1,6 +1,5 @@
 //! Motion layer: OMPL paths, timing, base placement.
 
-mod edges;
 mod paths;
 mod placement;
 mod timing;

@@ -13,7 +13,7 @@ use std::time::Duration;
 
 use kinscene::kinematics::pinocchio::{Data, forward_kinematics, frame_placement};
 use kinscene::kinematics::robot::{
-    EdgeSettings, Exempt, RobotCollision, RobotConfig, RobotModel, SphereSettings,
+    Exempt, RobotCollision, RobotConfig, RobotModel, SphereSettings,
 };
 use kinscene::planner::{
     Check, Contact, HierarchicalPlanner, MotionDocument, MotionInfeasibility, MotionOutcome,
@@ -500,56 +500,4 @@ fn the_sphere_fast_path_gives_the_same_plan_as_exact_checks() {
         ..PlannerSettings::default()
     });
     assert_eq!(fast, exact, "the sphere fast path changed the plan");
-}
-
-#[test]
-fn certified_arm_edges_plan_the_door_and_the_plan_rechecks() {
-    // The door of `the_sphere_fast_path_gives_the_same_plan_as_exact_checks` with OMPL's edges
-    // certified by the sphere model (conservative advancement) instead of sampled: a plan is
-    // found, and the independent re-checker of `contact.rs` (its own FK, parry distances,
-    // the finger rule, dense sampling) accepts it.
-    let model = contact::counter_with_door();
-    let problem = problem(
-        &model,
-        "[goal]\ndoor_hinge = { min = 1.5 }\n[robot]\nbase = [-0.9, 0.0, 0.0]\n",
-    );
-    // The searches are seeded, so the plan does not depend on the machine's load as long as
-    // each path search finishes inside its wall-clock budget; certified edges make a search
-    // about 4x slower, so the per-path safety net is raised from the default 1 s to 10 s (on
-    // a loaded 2-core machine one approach search took longer than 1 s).
-    let mut settings = PlannerSettings {
-        certified_arm_edges: Some(EdgeSettings::default()),
-        ..PlannerSettings::default()
-    };
-    settings.paths.budget = Duration::from_secs(10);
-    let planner = HierarchicalPlanner::new(RobotModel::kinova_gen3_mobile(), settings)
-        .expect("valid settings");
-    let (planner, plan) = contact::solve_with(planner, &model, &problem);
-    let report =
-        contact::recheck(&planner, &model, &problem.start, &plan).unwrap_or_else(|v| panic!("{v}"));
-    eprintln!("certified edges: {report}");
-    // Certified edges need the sphere model, and their own settings are checked.
-    for (settings, field) in [
-        (
-            PlannerSettings {
-                certified_arm_edges: Some(EdgeSettings::default()),
-                arm_spheres: None,
-                ..PlannerSettings::default()
-            },
-            "arm_spheres",
-        ),
-        (
-            PlannerSettings {
-                certified_arm_edges: Some(EdgeSettings { min_step: 0.0 }),
-                ..PlannerSettings::default()
-            },
-            "certified_arm_edges.min_step",
-        ),
-    ] {
-        let err = HierarchicalPlanner::new(RobotModel::kinova_gen3_mobile(), settings).unwrap_err();
-        assert!(
-            matches!(&err, PlannerError::InvalidSetting(s) if s.field == field),
-            "{err}"
-        );
-    }
 }

@@ -131,9 +131,9 @@ pub use model::{
 pub use pairs::{AllowedPair, PairReason, PairSampling};
 pub use pinocchio::TOOL_FRAME;
 pub use spheres::{
-    ArmCheck, ArmCheckData, ArmEdgeCheck, CELL_SLACK, CONTACT_CLEARANCE, CONTINUOUS_BAND,
-    EdgeScene, EdgeSettings, MAX_CONTINUOUS_STATES, RobotSpheres, SPHERE_SLACK, Sphere, SphereData,
-    SphereObstacles, SphereSettings,
+    ArmCheck, ArmCheckData, CELL_SLACK, CONTACT_CLEARANCE, CONTINUOUS_BAND, EdgeScene,
+    MAX_CONTINUOUS_STATES, RobotSpheres, SPHERE_SLACK, Sphere, SphereData, SphereObstacles,
+    SphereSettings,
 };
 pub use srdf::{DisabledPair, GroupState, Srdf, SrdfGroup};
 pub use stow::StowSearch;

@@ -144,20 +144,20 @@ pub fn plan_arm_checked(
 
 /// A whole-motion check for [`plan_arm_with_motion`]: whether the straight joint-space motion
 /// from the first configuration to the second is free, e.g. a certified
-/// [`ArmEdgeCheck::check`](crate::kinematics::robot::ArmEdgeCheck::check).
+/// [`ArmCheck::check_motion`](crate::kinematics::robot::ArmCheck::check_motion).
 pub type MotionCheck<'a> = dyn Fn(&[f64], &[f64]) -> bool + Sync + 'a;
 
 /// [`plan_arm`] with an optional whole-motion check. With `Some(motion)`, OMPL (planner and
 /// simplifier) accepts a motion `a → b` when `valid(b)` and `motion(a, b)` both hold, in place
 /// of its discrete check of `valid` every [`PathSettings::resolution`]; `valid` still decides
 /// the start, the goal and the sampled states. With a certified `motion` (one that accepts
-/// only free motions, such as [`ArmEdgeCheck::check`]), every returned segment is free
+/// only free motions, such as [`ArmCheck::check_motion`]), every returned segment is free
 /// however thin the obstacles. With `None` this is [`plan_arm`].
 ///
 /// # Errors
 /// As [`plan_arm`].
 ///
-/// [`ArmEdgeCheck::check`]: crate::kinematics::robot::ArmEdgeCheck::check
+/// [`ArmCheck::check_motion`]: crate::kinematics::robot::ArmCheck::check_motion
 #[allow(clippy::too_many_arguments)]
 pub fn plan_arm_with_motion(
     start: &[f64],

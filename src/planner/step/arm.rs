@@ -5,8 +5,8 @@ use super::StepReason;
 use super::refine::{ArmPaths, Placed, StepRefinement};
 use super::shortcut::{Timer, random_time_shortcuts, time_shortcuts};
 use super::{Check, Failed, StepPath, check_manipulation, path_or_reason};
-use crate::kinematics::robot::{ArmCheck as FastArmCheck, ArmEdgeCheck, EdgeScene, Exempt};
-use crate::motion::paths::{MotionCheck, first_invalid, plan_arm_checked, plan_arm_with_motion};
+use crate::kinematics::robot::{ArmCheck as FastArmCheck, EdgeScene, Exempt};
+use crate::motion::paths::{first_invalid, plan_arm, plan_arm_checked};
 use crate::planner::PlannerError;
 use crate::planner::arm_check::ArmCheck;
 use crate::planner::timed::timed;
@@ -58,30 +58,17 @@ impl StepRefinement<'_, '_> {
             exempt: arm.exempt,
             margin: arm.margin,
         };
-        let edges = match (&ctx.settings.certified_arm_edges, ctx.spheres) {
-            (Some(settings), Some(spheres)) => Some(ArmEdgeCheck::new(
-                ctx.robot,
-                ctx.collision,
-                spheres,
-                scene,
-                arm.base,
-                settings,
-            )?),
-            _ => None,
-        };
-        let certified = |a: &[f64], b: &[f64]| edges.as_ref().is_some_and(|e| e.check(a, b));
-        // With the sphere model and no edge settings, the search checks states and whole
-        // motions with the kinematics layer's fast exact check (the exact answer at every
-        // state, every motion certified continuously unless the settings ask for the discrete
-        // check, one call per motion); the dense re-check below stays with this step's own
-        // check.
-        let fast = match (ctx.spheres, &edges) {
-            (Some(spheres), None) => Some(
+        // With the sphere model, the search checks states and whole motions with the
+        // kinematics layer's fast exact check (the exact answer at every state, every motion
+        // certified continuously unless the settings ask for the discrete check, one call per
+        // motion); the dense re-check below stays with this step's own check.
+        let fast = match ctx.spheres {
+            Some(spheres) => Some(
                 FastArmCheck::new(ctx.robot, ctx.collision, spheres, scene, arm.base)?
                     .with_self_margin(arm.self_margin)
                     .with_continuous(ctx.settings.continuous_arm_motions),
             ),
-            _ => None,
+            None => None,
         };
         let outcome = match &fast {
             Some(check) => plan_arm_checked(
@@ -93,13 +80,12 @@ impl StepRefinement<'_, '_> {
                 &ctx.settings.paths,
                 ctx.termination,
             )?,
-            None => plan_arm_with_motion(
+            None => plan_arm(
                 from,
                 to,
                 lower.as_slice(),
                 upper.as_slice(),
                 &|q: &[f64]| arm.valid(q),
-                edges.is_some().then_some(&certified as &MotionCheck<'_>),
                 &ctx.settings.paths,
                 ctx.termination,
             )?,

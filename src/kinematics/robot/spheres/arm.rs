@@ -288,10 +288,10 @@ impl<'a> ArmCheck<'a> {
         self.state_valid(q, None, &mut data.state)
     }
 
-    /// Whether the straight motion from `a` to `b` is free: by default certified over the
-    /// whole motion ([`ArmCheck::with_continuous`]); with the continuous check off, at the
-    /// states a discrete check visits, with per-thread scratch: `b` and the states `a + (j / n)·(b − a)`,
-    /// `0 < j < n`, `n = ⌈‖b − a‖ / resolution⌉` (consecutive states at most `resolution`
+    /// Whether the straight motion from `a` to `b` is free, with per-thread scratch: by
+    /// default certified over the whole motion ([`ArmCheck::with_continuous`]); with the
+    /// continuous check off, at the states a discrete check visits: `b` and the states
+    /// `a + (j / n)·(b − a)`, `0 < j < n`, `n = ⌈‖b − a‖ / resolution⌉` (consecutive states at most `resolution`
     /// apart in the Euclidean norm of the joint values), visited in bisection order (the
     /// middle first, as OMPL's discrete motion validator) so that a blocked motion is
     /// rejected early. States within the certified span of a state found free are not

@@ -62,7 +62,7 @@ use crate::InvalidSetting;
 pub use arm::{ArmCheck, ArmCheckData, CONTACT_CLEARANCE, CONTINUOUS_BAND, MAX_CONTINUOUS_STATES};
 pub use check::{SPHERE_SLACK, SphereData};
 pub use cover::CELL_SLACK;
-pub use edge::{ArmEdgeCheck, EdgeScene, EdgeSettings};
+pub use edge::EdgeScene;
 pub(crate) use levers::{chain_step, levers};
 pub use obstacles::SphereObstacles;
 

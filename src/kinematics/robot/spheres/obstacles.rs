@@ -293,39 +293,12 @@ impl SphereObstacles {
 }
 
 impl SphereObstacles {
-    /// Per real sphere of `spheres` (placement order: link by link), a lower bound (m) on the
-    /// distance from the sphere to the obstacles it is tested against: the distance from its
-    /// centre to each rounded box, minus the box's reach (rounding radius + margin +
-    /// [`SPHERE_SLACK`]) and the sphere's radius, the least over the obstacles. Written into
-    /// `out` (cleared first); `f32::INFINITY` without obstacles. Where it is positive the
-    /// robot's exact geometry keeps more than the margin from the scene; every point of the
-    /// sphere is at least this far from every (margin-inflated) obstacle.
-    pub(super) fn clearances(&self, spheres: &SphereData, out: &mut Vec<f32>) {
-        out.clear();
-        for &(start, n) in &spheres.links {
-            for s in start..start + n {
-                let set = &self.sets[usize::from(spheres.kind[s] & 3)];
-                let p = [
-                    f32x8::splat(spheres.x[s]),
-                    f32x8::splat(spheres.y[s]),
-                    f32x8::splat(spheres.z[s]),
-                ];
-                let mut least = f32x8::splat(f32::INFINITY);
-                for b in set {
-                    let dist2 = b.dist2(&p);
-                    least = least.min(dist2.sqrt() - b.reach);
-                }
-                let least = least.to_array().into_iter().fold(f32::INFINITY, f32::min);
-                out.push(least - spheres.r[s]);
-            }
-        }
-    }
-}
-
-impl SphereObstacles {
     /// A lower bound (m) on the distance from the ball at `center` (world) of radius `radius`
     /// to every obstacle, none exempt (so also a bound for any sphere inside the ball,
-    /// whatever its kind): as [`SphereObstacles::clearances`] for one sphere.
+    /// whatever its kind): the distance from its centre to each rounded box, minus the box's
+    /// reach (rounding radius + margin + [`SPHERE_SLACK`]) and the radius, the least over the
+    /// obstacles. Every point of the ball is at least this far from every (margin-inflated)
+    /// obstacle.
     pub(super) fn ball_clearance(&self, center: [f32; 3], radius: f32) -> f32 {
         let p = center.map(f32x8::splat);
         let mut least = f32x8::splat(f32::INFINITY);
@@ -340,8 +313,9 @@ impl SphereObstacles {
     /// A lower bound (m) on the distance from every sphere of link `l` in `spheres` to the
     /// obstacles it is tested against, leaving out the obstacles `k` with `skip[k]` set (the
     /// order of [`SphereObstacles::new`]; a shorter `skip` leaves out none beyond its end):
-    /// as [`SphereObstacles::clearances`], the least over the link's spheres. `f32::INFINITY`
-    /// for a link without spheres or when every obstacle is left out.
+    /// as [`SphereObstacles::ball_clearance`] per sphere (against the obstacles of its kind),
+    /// the least over the link's spheres. `f32::INFINITY` for a link without spheres or when
+    /// every obstacle is left out.
     pub(super) fn link_clearance(&self, spheres: &SphereData, l: usize, skip: &[bool]) -> f32 {
         let Some(&(start, n)) = spheres.links.get(l) else {
             return f32::INFINITY;
