@@ -21,7 +21,7 @@
 //! [`ContactWalk`] walks a timed motion, of the arm or of the whole robot, with the steps
 //! these bounds allow.
 
-use super::super::spheres::{Sphere, chain_step, levers};
+use super::super::spheres::{Sphere, chain_step, levers, reach};
 use super::{Exempt, RobotCollision, RobotModel};
 use crate::scene::{SceneData, SceneModel};
 
@@ -130,10 +130,7 @@ fn radius(robot: &RobotModel, cover: &[Sphere], l: usize) -> f64 {
     if cover.is_empty() {
         return 0.0;
     }
-    let reach = cover
-        .iter()
-        .map(|s| s.center.coords.norm() + s.radius)
-        .fold(0.0, f64::max);
+    let reach = reach(cover);
     if l == 0 {
         return reach;
     }

@@ -3,6 +3,15 @@
 
 use crate::kinematics::robot::{ArmJoint, ArmJointKind, RobotModel};
 
+/// The farthest any point of `spheres` (a link's, in its frame) is from the link's origin:
+/// the largest `|c| + r` (0 without spheres).
+pub(crate) fn reach(spheres: &[super::Sphere]) -> f64 {
+    spheres
+        .iter()
+        .map(|s| s.center.coords.norm() + s.radius)
+        .fold(0.0, f64::max)
+}
+
 /// The most a link's origin can be from its parent link's origin through arm joint `j`: the
 /// joint's fixed offset, plus a prismatic joint's largest travel.
 pub(crate) fn chain_step(j: &ArmJoint) -> f64 {
@@ -33,11 +42,7 @@ pub(crate) fn levers(
     k: usize,
 ) -> Vec<(usize, f64)> {
     let joints = robot.arm_joints();
-    let reach = links.get(k).map_or(0.0, |l| {
-        l.iter()
-            .map(|s| s.center.coords.norm() + s.radius)
-            .fold(0.0, f64::max)
-    });
+    let reach = links.get(k).map_or(0.0, |l| reach(l));
     (i..k.min(joints.len()))
         .map(|j| {
             let lever = match joints[j].kind {

@@ -63,7 +63,7 @@ pub use arm::{ArmCheck, ArmCheckData, CONTACT_CLEARANCE, CONTINUOUS_BAND, MAX_CO
 pub use check::{SPHERE_SLACK, SphereData};
 pub use cover::CELL_SLACK;
 pub use edge::EdgeScene;
-pub(crate) use levers::{chain_step, levers};
+pub(crate) use levers::{chain_step, levers, reach};
 pub use obstacles::SphereObstacles;
 
 /// A sphere: centre and radius (m).
