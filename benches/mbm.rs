@@ -505,7 +505,11 @@ fn main() {
             stat.digest
         );
     }
-    let ratio = |a: usize, b: usize| medians[a].as_secs_f64() / medians[b].as_secs_f64().max(1e-12);
+    // 0 where either mode was skipped (its median is zero), not a quotient by zero.
+    let ratio = |a: usize, b: usize| {
+        let (x, y) = (medians[a].as_secs_f64(), medians[b].as_secs_f64());
+        if x > 0.0 && y > 0.0 { x / y } else { 0.0 }
+    };
     println!(
         "median ratios against ArmCheck (full simplifier): exact {:.2}, fast path {:.2}, \
          ArmCheck with shortcut simplifier {:.2}; against the fast path: \

@@ -130,10 +130,15 @@ pub struct Discovery {
 ///    (DetectFailure's reference), a grasp at the last contact along the last tracked
 ///    normal, pull steps until the contact is `extra_pull` from that grasp (the same
 ///    DetectFailure and GetComplianceAction), retract, then step 5 and this step again on
-///    all the motion so far (the new grasp's poses stitched like a retry's). Pulling stops
-///    when the estimate is confident, when the part (or the arm) reached a limit
-///    (`JointLimit` from the first attempts or a further pull), when a further pull fails
-///    otherwise, or after `max_extra_pulls`; [`HandleLog::pulling`](super::HandleLog) says
+///    all the motion so far (the new grasp's poses stitched like a retry's). A pull that
+///    ended at the arm's limit (`JointLimit`, from the first attempts or a further pull)
+///    cannot go on from its base pose: the next further pull starts from PlanBase for the
+///    last contact instead (facing it along the last tracked normal at
+///    `interaction_distance`; `reposition_at_arm_limit`), and the log notes the pose.
+///    Pulling stops when the estimate is confident, at the arm's limit when no other free
+///    pose is found (or the setting is off), when a further pull moves nothing (the part's
+///    own limit) or fails otherwise, or after `max_extra_pulls`;
+///    [`HandleLog::pulling`](super::HandleLog) says
 ///    which ([`PullEnd`](super::PullEnd)), with the doubts left, and the estimate log the
 ///    uncertainty it stopped at. The most confident estimate is kept (the least largest ratio
 ///    of a region to its limit): when a further pull made the estimate worse (a view the

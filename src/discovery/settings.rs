@@ -113,6 +113,11 @@ pub struct DiscoverySettings {
     /// further attempts left drawers open across their neighbours' handles, and the
     /// repositioned grasp of a corner door was out of reach (Fig. 5 92 % → 76 %).
     pub resume_short_pulls: bool,
+    /// When a pull ends at the arm's limit (`JointLimit`) while the estimate still has a
+    /// doubt, the further pulls of the keep-pulling loop go on from a base pose placed in
+    /// front of the last contact (PlanBase for it, along the last tracked normal) instead of
+    /// stopping there. `false`: the limit ends the loop. Default true.
+    pub reposition_at_arm_limit: bool,
     // --- Reposition ---
     /// A tracked rotation of at least this (rad) classifies the motion as revolute. Default
     /// 0.14 (8°).
@@ -203,6 +208,7 @@ impl Default for DiscoverySettings {
             stall_steps: 5,
             sufficient_pull: 0.12,
             resume_short_pulls: false,
+            reposition_at_arm_limit: true,
             confident_axis_95: 2f64.to_radians(),
             confident_pivot_95: 0.02,
             confident_type_probability: 0.99,

@@ -44,6 +44,10 @@ pub struct WorldSettings {
     /// (m) and orientation σ per axis of a small rotation vector (rad). The true pose is
     /// unaffected. Default 0: exact poses.
     pub pose_noise: (f64, f64),
+    /// The wrist turns the gripper at most this far (rad) from its orientation at the grasp:
+    /// a pull step that would turn it further is refused with `JointLimit` (an arm joint at
+    /// its limit; after a new grasp the wrist starts over). Default ∞.
+    pub max_wrist_turn: f64,
 }
 
 impl Default for WorldSettings {
@@ -58,6 +62,7 @@ impl Default for WorldSettings {
             head_rays: (180, 150),
             robot_radius: 0.25,
             pose_noise: (0.0, 0.0),
+            max_wrist_turn: f64::INFINITY,
         }
     }
 }
@@ -93,6 +98,8 @@ pub struct World {
     pub grasps: usize,
     base: Isometry2<f64>,
     ee: Isometry3<f64>,
+    /// The gripper's orientation at the last grasp.
+    grasped_as: UnitQuaternion<f64>,
     held: Option<Held>,
     time: f64,
     rng: ChaCha8Rng,
@@ -117,6 +124,7 @@ impl World {
             grasps: 0,
             base,
             ee: Isometry3::identity(),
+            grasped_as: UnitQuaternion::identity(),
             held: None,
             time: 0.0,
             rng: ChaCha8Rng::seed_from_u64(seed),
@@ -425,6 +433,7 @@ impl Hardware for World {
         }
         let ee = Isometry3::from_parts(p.coords.into(), gripper_rotation(approach));
         self.ee = ee;
+        self.grasped_as = ee.rotation;
         self.held = Some(match held {
             Held::Part { handle, .. } => {
                 let data = self.data();
@@ -478,7 +487,9 @@ impl Hardware for World {
         let world_from_part = *self.data().world_from_part(handle.part()).expect("part");
         let ee = world_from_part * part_from_ee;
         let reach = self.horizontal_distance(&Point3::from(ee.translation.vector));
-        if reach > self.settings.reach {
+        if reach > self.settings.reach
+            || ee.rotation.angle_to(&self.grasped_as) > self.settings.max_wrist_turn
+        {
             self.state = old;
             return Err(HardwareFailure::JointLimit);
         }

@@ -3,7 +3,7 @@
 //! settings' limits, a further pull from the last contact, a new observation and a new
 //! estimate. The rules are documented on [`discover`](crate::discovery::discover), step 6.
 
-use nalgebra::{Point3, Vector2};
+use nalgebra::{Isometry2, Point3, Vector2};
 
 use crate::articulation::{Estimate, JointEstimate};
 use crate::discovery::explore::{AttemptInput, attempt, checked_cloud};
@@ -11,7 +11,7 @@ use crate::discovery::interface::{HardwareFailure, LocalGoal, PointCloud};
 use crate::discovery::log::{
     AttemptEnd, Doubt, EstimateLog, HandleLog, PullEnd, PullingLog, Stage,
 };
-use crate::discovery::placement::FreeSpace;
+use crate::discovery::placement::{FreeSpace, horizontal, plan_base};
 use crate::discovery::settings::DiscoverySettings;
 
 use super::pull::skipped;
@@ -34,12 +34,11 @@ impl Run<'_> {
         free: &FreeSpace,
     ) -> Result<(Estimate, PointCloud), Stop> {
         let s = self.s;
-        // The first attempts already ended at a limit: nothing more to pull.
-        let mut pending = entry
-            .attempts
-            .last()
-            .is_some_and(|a| at_limit(&a.end))
-            .then_some(PullEnd::JointLimit);
+        // Why pulling must stop once the estimate is in (a failure of a further pull).
+        let mut pending: Option<PullEnd> = None;
+        // The last pull ended at the arm's limit (`JointLimit`): it cannot go on from that
+        // base pose. A further pull starts from a new one, or pulling stops.
+        let mut at_arm_limit = entry.attempts.last().is_some_and(|a| at_limit(&a.end));
         let mut extra_pulls = 0;
         // The most confident estimate so far: (round, estimate, doubts, shortfall).
         let mut best: Option<(usize, Estimate, Vec<Doubt>, f64)> = None;
@@ -64,24 +63,82 @@ impl Run<'_> {
             } else if pending.is_some() {
                 pending.take()
             } else if extra_pulls >= s.max_extra_pulls {
-                Some(PullEnd::Budget)
+                Some(if at_arm_limit {
+                    PullEnd::JointLimit
+                } else {
+                    PullEnd::Budget
+                })
             } else {
                 None
             };
-            if let Some(end) = end {
+            // Where the next pull starts: the last pull's base pose, or after the arm's limit
+            // a new one in front of the last contact (none: pulling stops at the limit).
+            let from = match end {
+                Some(_) => None,
+                None if at_arm_limit => self.past_arm_limit(entry, pulled, free),
+                None => Some(pulled.base),
+            };
+            let Some(from) = from else {
+                let end = end.unwrap_or(PullEnd::JointLimit);
                 let kept = self.kept(entry, pulled, best, last, end, extra_pulls);
                 return Ok((kept, o_post));
-            }
+            };
             extra_pulls += 1;
-            let (moved, stop) = self.pull_further(entry, pulled)?;
-            pending = stop;
+            let (moved, end) = self.pull_further(entry, pulled, from)?;
+            at_arm_limit = end.as_ref().is_some_and(at_limit);
+            if !at_arm_limit {
+                pending = end.map(|end| PullEnd::Failure { end });
+            }
             if !moved {
-                // Nothing new to estimate from: stop with the estimates so far.
-                let end = pending.take().unwrap_or(PullEnd::Budget);
+                // Nothing new to estimate from: stop with the estimates so far (a pull that
+                // could not start at a new base pose: the part's limit, or the arm's there
+                // too).
+                let end = pending.take().unwrap_or(if at_arm_limit {
+                    PullEnd::JointLimit
+                } else {
+                    PullEnd::Budget
+                });
                 let kept = self.kept(entry, pulled, best, last, end, extra_pulls);
                 return Ok((kept, o_post));
             }
         }
+    }
+
+    /// The base pose a further pull starts from after the last pull stopped at the arm's
+    /// limit (`JointLimit`: it cannot go on from that pose): PlanBase for the last contact,
+    /// facing it along the last tracked normal at `interaction_distance`, as the first
+    /// attempt's pose was placed for the handle. `None` (pulling stops at the limit) when
+    /// [`DiscoverySettings::reposition_at_arm_limit`] is off, when no free pose is found, or
+    /// when the pose found is the one the arm stopped at (within 1 cm and 1°).
+    fn past_arm_limit(
+        &self,
+        entry: &mut HandleLog,
+        pulled: &Pulled,
+        free: &FreeSpace,
+    ) -> Option<Isometry2<f64>> {
+        let s = self.s;
+        if !s.reposition_at_arm_limit {
+            return None;
+        }
+        let c = pulled.contact_post;
+        let toward = self.toward_robot(&c).ok()?;
+        let dir = horizontal(&pulled.normal, &toward)?;
+        let b = plan_base(free, &c, &dir, s.interaction_distance, s.base_search_radius)?;
+        let moved = (b.translation.vector - pulled.base.translation.vector).norm();
+        let turned = b.rotation.angle_to(&pulled.base.rotation).abs();
+        if moved < 0.01 && turned < 1f64.to_radians() {
+            return None;
+        }
+        entry.notes.push(format!(
+            "the arm reached a limit with the estimate in doubt: pulling on from \
+             ({:.2}, {:.2}, {:.0}°), in front of the last contact ({moved:.2} m and {:.0}° from \
+             where it stopped)",
+            b.translation.x,
+            b.translation.y,
+            b.rotation.angle().to_degrees(),
+            turned.to_degrees()
+        ));
+        Some(b)
     }
 
     /// The estimate the loop ends with, logged in `entry`: the most confident one (`best`,
@@ -116,26 +173,29 @@ impl Run<'_> {
         estimate
     }
 
-    /// One further pull: back to the last successful attempt's base pose, a new
-    /// pre-interaction observation (DetectFailure's reference), a grasp at the last contact
-    /// along the last tracked normal, and pull steps until the contact is `extra_pull` from
-    /// that grasp; then retract. The attempt is logged in `entry` and its poses appended to
-    /// `pulled` (a new grasp segment). Returns whether the part moved, and why pulling must
-    /// stop (`None`: it may go on).
+    /// One further pull from base pose `from` (the last successful attempt's, or a new one
+    /// past the arm's limit): LocalNavTo there, a new pre-interaction observation
+    /// (DetectFailure's reference), a grasp at the last contact along the last tracked
+    /// normal, and pull steps until the contact is `extra_pull` from that grasp; then
+    /// retract. The attempt is logged in `entry` and its poses appended to `pulled` (a new
+    /// grasp segment); a pull that moved the part makes `from` the pose later pulls return
+    /// to. Returns whether the part moved, and the attempt's end unless it succeeded (`None`:
+    /// pulling may go on).
     fn pull_further(
         &mut self,
         entry: &mut HandleLog,
         pulled: &mut Pulled,
-    ) -> Result<(bool, Option<PullEnd>), Stop> {
+        from: Isometry2<f64>,
+    ) -> Result<(bool, Option<AttemptEnd>), Stop> {
         let s = self.s;
         let goal = LocalGoal {
             target: pulled.contact_post,
-            world_from_base: pulled.base,
+            world_from_base: from,
         };
         if let Err(failure) = self.robot.navigate_local(&goal) {
             let end = AttemptEnd::Navigation { failure };
-            entry.attempts.push(skipped(pulled.base, end.clone()));
-            return Ok((false, Some(PullEnd::Failure { end })));
+            entry.attempts.push(skipped(from, end.clone()));
+            return Ok((false, Some(end)));
         }
         let o_pre = match self.robot.observe(s.observation_camera) {
             Ok(o) => o,
@@ -143,8 +203,8 @@ impl Run<'_> {
                 let end = AttemptEnd::Sensor {
                     reason: e.to_string(),
                 };
-                entry.attempts.push(skipped(pulled.base, end.clone()));
-                return Ok((false, Some(PullEnd::Failure { end })));
+                entry.attempts.push(skipped(from, end.clone()));
+                return Ok((false, Some(end)));
             }
         };
         checked_cloud(&o_pre, "pre-interaction")?;
@@ -152,7 +212,7 @@ impl Run<'_> {
             o_pre: &o_pre,
             hotspot: pulled.contact_post,
             normal: pulled.normal,
-            world_from_base: pulled.base,
+            world_from_base: from,
             first_grasp: None,
             target: s.extra_pull,
         };
@@ -172,14 +232,10 @@ impl Run<'_> {
         if let Err(f) = self.robot.retract() {
             return fail(Stage::Exploration, format!("retract: {f}"));
         }
-        let stop = if at_limit(&end) {
-            Some(PullEnd::JointLimit)
-        } else if end.is_success() {
-            None
-        } else {
-            Some(PullEnd::Failure { end })
-        };
-        Ok((moved, stop))
+        if moved {
+            pulled.base = from;
+        }
+        Ok((moved, (!end.is_success() || at_limit(&end)).then_some(end)))
     }
 }
 
@@ -226,7 +282,8 @@ pub(crate) fn reopened(estimate: &mut Estimate, pre: &Point3<f64>, post: &Point3
     }
 }
 
-/// Whether an attempt ended at the part's (or the arm's) limit.
+/// Whether an attempt ended at the arm's limit (`JointLimit`: the motion cannot go on from
+/// that base pose; a robot that reports the part's own limit so ends there too).
 fn at_limit(end: &AttemptEnd) -> bool {
     matches!(
         end,
