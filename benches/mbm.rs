@@ -28,8 +28,12 @@
 //!
 //! **Robot.** The Panda of the PyPI package `example-robot-data` with its SRDF (mesh collision
 //! geometry as convex hulls), fingers frozen open at 0.04 m, base at the origin as in the
-//! problems. Its meshes are not VAMP's, so a start or goal may collide here: such problems are
-//! counted apart ("invalid endpoints") and the success rate is over the others.
+//! problems. Its meshes and limits are not VAMP's, so a start or goal may collide here, or lie
+//! outside this Panda's joint limits (four goals of the set have joint 4 above its upper limit
+//! of −0.0698 rad, which OMPL rejects as an invalid goal): such problems are counted apart
+//! ("invalid endpoints", the out-of-limit ones listed) and the success rate is over the
+//! others. Each mode's line lists the problems it did not solve (index in the set, 0-based).
+//! `-- problems=I,J,…` runs those problems alone.
 //!
 //! **Checks.** Clearance 0 (touching is a collision, as in MoveIt), OMPL's resolution 0.01 rad
 //! ([`PathSettings::default`]), seeded, 2 s budget per problem. Every returned path is
@@ -222,6 +226,8 @@ struct Stats {
     /// Returned paths with a segment the continuous check certifies in neither direction (it
     /// touches, or comes within `CONTACT_CLEARANCE`, 10 µm).
     uncertified: usize,
+    /// The problems not solved (indices in the set).
+    unsolved: Vec<usize>,
     /// FNV-1a over the bits of every returned path's values, in problem order: equal digests
     /// from two builds mean the same paths (the validity answers did not change).
     digest: u64,
@@ -304,11 +310,31 @@ fn main() {
         solved: 0,
         recheck_failures: 0,
         uncertified: 0,
+        unsolved: Vec::new(),
         digest: 0xcbf2_9ce4_8422_2325,
     });
     let mut invalid_endpoints = 0;
+    // Problems with a start or goal outside the joint limits (index, which, joint, value).
+    let mut out_of_limits: Vec<(usize, &str, usize, f64)> = Vec::new();
+    // `problems=I,J,…`: only these problems (indices in the set).
+    let chosen: Option<Vec<usize>> = std::env::args().find_map(|a| {
+        a.strip_prefix("problems=")
+            .map(|l| l.split(',').filter_map(|i| i.trim().parse().ok()).collect())
+    });
     let mut warmed = false;
-    for problem in &problems {
+    for (index, problem) in problems.iter().enumerate() {
+        if chosen.as_ref().is_some_and(|c| !c.contains(&index)) {
+            continue;
+        }
+        let outside = [("start", &problem.start), ("goal", &problem.goal)]
+            .into_iter()
+            .flat_map(|(which, q)| q.iter().enumerate().map(move |(j, &v)| (which, j, v)))
+            .find(|&(_, j, v)| !(lower[j]..=upper[j]).contains(&v));
+        if let Some((which, j, v)) = outside {
+            out_of_limits.push((index, which, j, v));
+            invalid_endpoints += 1;
+            continue;
+        }
         let (model, data) = scene(problem);
         let poses = |q: &[f64]| {
             robot
@@ -448,6 +474,9 @@ fn main() {
             .expect("valid input");
             let elapsed = t0.elapsed();
             stat.times.push(elapsed);
+            if !matches!(outcome, PathOutcome::Solved(_)) {
+                stat.unsolved.push(index);
+            }
             if let PathOutcome::Solved(path) = outcome {
                 stat.solved += 1;
                 for v in path.iter().flatten() {
@@ -471,9 +500,22 @@ fn main() {
         report_profiles(&profiles);
         return;
     }
-    let attempted = problems.len() - invalid_endpoints;
+    let considered = chosen.as_ref().map_or(problems.len(), |c| {
+        (0..problems.len()).filter(|i| c.contains(i)).count()
+    });
+    let attempted = considered - invalid_endpoints;
+    let limits: Vec<String> = out_of_limits
+        .iter()
+        .map(|(i, which, j, v)| format!("{i} ({which} joint {} at {v:.4} rad)", j + 1))
+        .collect();
     println!(
-        "invalid endpoints (start or goal collides with this Panda model): {invalid_endpoints}"
+        "invalid endpoints: {invalid_endpoints} (start or goal collides with this Panda model, \
+         or lies outside its joint limits: {})",
+        if limits.is_empty() {
+            "none".to_string()
+        } else {
+            limits.join(", ")
+        }
     );
     let mut medians = Vec::new();
     let names = [
@@ -495,14 +537,15 @@ fn main() {
         println!(
             "{name:>26}: solved {}/{attempted} ({:.1} %), median {:.2} ms, p95 {:.2} ms, \
              exact re-check at 1/4 spacing fails on {}, continuous check rejects {} (touching \
-             or within 10 um), paths {:016x}",
+             or within 10 um), paths {:016x}, unsolved {:?}",
             stat.solved,
             100.0 * stat.solved as f64 / attempted.max(1) as f64,
             median.as_secs_f64() * 1e3,
             quantile(&stat.times, 0.95).as_secs_f64() * 1e3,
             stat.recheck_failures,
             stat.uncertified,
-            stat.digest
+            stat.digest,
+            stat.unsolved
         );
     }
     // 0 where either mode was skipped (its median is zero), not a quotient by zero.
