@@ -250,8 +250,11 @@ impl HandleLog {
 pub enum PullEnd {
     /// The estimate's uncertainty is within the settings' limits.
     Confident,
-    /// The part, or the arm holding it, reached a limit ([`HardwareFailure::JointLimit`]):
-    /// no more motion to be had.
+    /// The arm holding the part reached a limit ([`HardwareFailure::JointLimit`]) and no
+    /// further pull could go on: no free base pose in front of the last contact other than
+    /// the one it stopped at, a pull from there that moved nothing (the part's own limit, or
+    /// the arm's again), `reposition_at_arm_limit` off, or `max_extra_pulls` reached at the
+    /// limit.
     JointLimit,
     /// A further pull failed otherwise (its attempt's end).
     Failure {
