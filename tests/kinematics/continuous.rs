@@ -2,15 +2,13 @@
 //! motion that touches anything, thin obstacles included, against dense sampling of the
 //! exact check.
 
-use kinscene::kinematics::robot::{
-    ArmCheck, EdgeScene, Exempt, RobotCollision, RobotSpheres, SphereSettings,
-};
-use kinscene::scene::{BaseShape, SceneData, Shape, State, forward_kinematics};
+use kinscene::kinematics::robot::{ArmCheck, RobotCollision, RobotSpheres, SphereSettings};
+use kinscene::scene::{BaseShape, Shape};
 use nalgebra::{Isometry3, Vector3};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::spheres::{exact_free, motion_from_free, robots, scene_builder};
+use super::spheres::{edge_scene, exact_free, motion_from_free, robots, scene_builder, zero_data};
 
 /// On 60 seeded motions per robot (Gen3, Panda, TIAGo; from a free configuration, 0.3 to
 /// 2 rad long) among the sphere tests' obstacles and three thin ones (a 1 mm plate, a 1 mm
@@ -46,14 +44,8 @@ fn the_continuous_check_accepts_no_motion_that_touches() {
         builder.add_base_shape(BaseShape::new(name, shape, pose));
     }
     let model = builder.build().unwrap();
-    let mut data = SceneData::new(&model);
-    forward_kinematics(&model, &mut data, &State::from_slice(&model, &[]).unwrap()).unwrap();
-    let edge_scene = EdgeScene {
-        model: &model,
-        data: &data,
-        exempt: Exempt::Nothing,
-        margin: 0.0,
-    };
+    let data = zero_data(&model);
+    let edge_scene = edge_scene(&model, &data, 0.0);
     let mut jumped_by_discrete = 0;
     for (name, robot) in robots() {
         let collision = RobotCollision::new(&robot).unwrap();

@@ -11,7 +11,7 @@ use kinscene::kinematics::robot::{
     Srdf,
 };
 use kinscene::scene::{
-    BaseShape, SceneData, SceneModel, SceneModelBuilder, Shape, State, forward_kinematics,
+    BaseShape, SceneData, SceneModel, SceneModelBuilder, Shape, forward_kinematics,
 };
 use nalgebra::{DVector, Isometry3, Point3, Vector3};
 use rand::{Rng, SeedableRng};
@@ -150,6 +150,27 @@ pub(super) fn scene_builder() -> SceneModelBuilder {
     b
 }
 
+/// `model` placed at its zero state.
+pub(super) fn zero_data(model: &SceneModel) -> SceneData {
+    let mut data = SceneData::new(model);
+    forward_kinematics(model, &mut data, &model.zero_state()).unwrap();
+    data
+}
+
+/// The whole scene of `data`, nothing exempt, with `margin` (m): what an [`ArmCheck`] checks.
+pub(super) fn edge_scene<'a>(
+    model: &'a SceneModel,
+    data: &'a SceneData,
+    margin: f64,
+) -> EdgeScene<'a> {
+    EdgeScene {
+        model,
+        data,
+        exempt: Exempt::Nothing,
+        margin,
+    }
+}
+
 pub(super) fn random_arm(robot: &RobotModel, rng: &mut ChaCha8Rng) -> DVector<f64> {
     let (lo, hi) = robot.arm_bounds();
     DVector::from_fn(robot.dof(), |i, _| {
@@ -173,8 +194,7 @@ pub(super) fn random_arm(robot: &RobotModel, rng: &mut ChaCha8Rng) -> DVector<f6
 #[test]
 fn every_exact_collision_is_a_sphere_collision() {
     let model = scene();
-    let mut data = SceneData::new(&model);
-    forward_kinematics(&model, &mut data, &State::from_slice(&model, &[]).unwrap()).unwrap();
+    let data = zero_data(&model);
     let obstacles = SphereObstacles::new(&model, &data, Exempt::Nothing, MARGIN);
     assert_eq!(obstacles.len(), 5);
     for (name, robot) in robots() {
@@ -399,14 +419,8 @@ fn padding_grows_radii_and_bad_settings_are_errors() {
 #[test]
 fn arm_check_gives_the_exact_answer() {
     let model = scene();
-    let mut data = SceneData::new(&model);
-    forward_kinematics(&model, &mut data, &State::from_slice(&model, &[]).unwrap()).unwrap();
-    let edge_scene = EdgeScene {
-        model: &model,
-        data: &data,
-        exempt: Exempt::Nothing,
-        margin: MARGIN,
-    };
+    let data = zero_data(&model);
+    let edge_scene = edge_scene(&model, &data, MARGIN);
     for (name, robot) in robots() {
         let collision = RobotCollision::new(&robot).unwrap();
         let spheres = RobotSpheres::new(&robot, &collision, &SphereSettings::default()).unwrap();
@@ -457,14 +471,8 @@ fn arm_check_gives_the_exact_answer() {
 fn arm_motion_check_matches_the_exact_check_of_its_states() {
     const RESOLUTION: f64 = 0.01;
     let model = scene();
-    let mut data = SceneData::new(&model);
-    forward_kinematics(&model, &mut data, &State::from_slice(&model, &[]).unwrap()).unwrap();
-    let edge_scene = EdgeScene {
-        model: &model,
-        data: &data,
-        exempt: Exempt::Nothing,
-        margin: MARGIN,
-    };
+    let data = zero_data(&model);
+    let edge_scene = edge_scene(&model, &data, MARGIN);
     for (name, robot) in robots() {
         let collision = RobotCollision::new(&robot).unwrap();
         let spheres = RobotSpheres::new(&robot, &collision, &SphereSettings::default()).unwrap();
@@ -510,14 +518,8 @@ fn arm_motion_check_matches_the_exact_check_of_its_states() {
 fn arm_motion_spans_keep_the_exact_answer() {
     const RESOLUTION: f64 = 0.02;
     let model = scene();
-    let mut data = SceneData::new(&model);
-    forward_kinematics(&model, &mut data, &State::from_slice(&model, &[]).unwrap()).unwrap();
-    let edge_scene = EdgeScene {
-        model: &model,
-        data: &data,
-        exempt: Exempt::Nothing,
-        margin: MARGIN,
-    };
+    let data = zero_data(&model);
+    let edge_scene = edge_scene(&model, &data, MARGIN);
     for (name, robot) in robots() {
         let collision = RobotCollision::new(&robot).unwrap();
         let spheres = RobotSpheres::new(&robot, &collision, &SphereSettings::default()).unwrap();
@@ -573,14 +575,8 @@ fn arm_check_with_a_self_margin_gives_the_exact_answer() {
     const SELF: f64 = 0.01;
     const RESOLUTION: f64 = 0.02;
     let model = scene();
-    let mut data = SceneData::new(&model);
-    forward_kinematics(&model, &mut data, &State::from_slice(&model, &[]).unwrap()).unwrap();
-    let edge_scene = EdgeScene {
-        model: &model,
-        data: &data,
-        exempt: Exempt::Nothing,
-        margin: MARGIN,
-    };
+    let data = zero_data(&model);
+    let edge_scene = edge_scene(&model, &data, MARGIN);
     for (name, robot) in robots() {
         let collision = RobotCollision::new(&robot).unwrap();
         let spheres = RobotSpheres::new(&robot, &collision, &SphereSettings::default()).unwrap();
@@ -733,8 +729,7 @@ fn exact_distances_are_parrys_bit_for_bit() {
         )
     };
     let model = scene();
-    let mut data = SceneData::new(&model);
-    forward_kinematics(&model, &mut data, &State::from_slice(&model, &[]).unwrap()).unwrap();
+    let data = zero_data(&model);
     // The scene's base shapes in the world, as parry shapes.
     let obstacles: Vec<_> = model
         .base()

@@ -63,11 +63,7 @@ impl Run<'_> {
             } else if pending.is_some() {
                 pending.take()
             } else if extra_pulls >= s.max_extra_pulls {
-                Some(if at_arm_limit {
-                    PullEnd::JointLimit
-                } else {
-                    PullEnd::Budget
-                })
+                Some(out_of_pulls(at_arm_limit))
             } else {
                 None
             };
@@ -93,11 +89,7 @@ impl Run<'_> {
                 // Nothing new to estimate from: stop with the estimates so far (a pull that
                 // could not start at a new base pose: the part's limit, or the arm's there
                 // too).
-                let end = pending.take().unwrap_or(if at_arm_limit {
-                    PullEnd::JointLimit
-                } else {
-                    PullEnd::Budget
-                });
+                let end = pending.take().unwrap_or(out_of_pulls(at_arm_limit));
                 let kept = self.kept(entry, pulled, best, last, end, extra_pulls);
                 return Ok((kept, o_post));
             }
@@ -279,6 +271,16 @@ pub(crate) fn reopened(estimate: &mut Estimate, pre: &Point3<f64>, post: &Point3
         }
         JointEstimate::Prismatic { axis, distance } => *distance = axis.dot(&(post - pre)),
         JointEstimate::Unknown { .. } => {}
+    }
+}
+
+/// How pulling ends with no failure to report: at the arm's limit if the last pull stopped
+/// there, else on the budget of further pulls.
+fn out_of_pulls(at_arm_limit: bool) -> PullEnd {
+    if at_arm_limit {
+        PullEnd::JointLimit
+    } else {
+        PullEnd::Budget
     }
 }
 
