@@ -647,8 +647,8 @@ fn arm_check_with_a_self_margin_gives_the_exact_answer() {
 /// tables' wrapping is exercised), for every checked pair, the bound is at most parry's
 /// distance (`pair_distance`, which is `<= 0` for touching pairs, so a touching pair is never
 /// certified apart). Not vacuous: the Panda's `link5`–`link7` pair has a table, and its bound
-/// is positive (certifies the pair apart) on most of the configurations while its spheres
-/// meet on most of them too.
+/// is positive (certifies the pair apart) on most of the configurations, and on over a
+/// quarter of them where its spheres meet (the table decides what the spheres cannot).
 #[test]
 fn pair_distance_tables_bound_the_exact_distance() {
     for (name, robot) in robots() {
@@ -689,19 +689,20 @@ fn pair_distance_tables_bound_the_exact_distance() {
                 );
                 if Some(p) == panda_pair {
                     certified += usize::from(bound > 0.0);
-                    spheres_meet += usize::from(spheres.pair_meets(&placed, i, k));
+                    spheres_meet +=
+                        usize::from(bound > 0.0 && spheres.pair_meets(&placed, i, k));
                 }
             }
         }
         println!(
             "{name}: {tabled} table bounds checked; link5-link7 certified apart on {certified} \
-             of {samples} (its spheres meet on {spheres_meet})"
+             of {samples} ({spheres_meet} of them with its spheres meeting)"
         );
         if name == "panda" {
             assert!(panda_pair.is_some(), "the Panda checks link5-link7");
             assert!(certified > samples / 2, "panda: {certified} of {samples}");
             assert!(
-                spheres_meet > samples / 2,
+                spheres_meet > samples / 4,
                 "panda: {spheres_meet} of {samples}"
             );
         }

@@ -53,9 +53,9 @@ impl Polytope {
         }
     }
 
-    /// The smallest-box-centred sphere enclosing the candidate vertices of
-    /// `cell ∩ hull` (cell: the box at `shape_from_cell` with half extents `half`), or `None`
-    /// if there are none.
+    /// A sphere enclosing the candidate vertices of `cell ∩ hull` (cell: the box at
+    /// `shape_from_cell` with half extents `half`), or `None` if there are none: centred at
+    /// their box's centre moved inwards ([`inward`]).
     pub(super) fn sphere_in_cell(
         &self,
         shape_from_cell: &Isometry3<f64>,
@@ -132,14 +132,96 @@ impl Polytope {
         let (lo, hi) = found
             .iter()
             .fold((first, first), |(lo, hi), p| (lo.inf(p), hi.sup(p)));
-        let center = (lo + hi) / 2.0;
-        let radius = found
-            .iter()
-            .map(|p| (p - center).norm())
-            .fold(0.0, f64::max);
+        let center = inward((lo + hi) / 2.0, half.max(), &found, &planes);
+        let radius = enclosing(&center, &found);
         Some(Sphere::new(
             shape_from_cell * Point3::from(center),
             radius + INSIDE_TOLERANCE,
         ))
     }
+}
+
+impl Polytope {
+    /// How far (m) sphere `s` (shape frame) reaches past the hull's face planes: its radius
+    /// less its centre's depth in the hull (negative when it lies inside).
+    pub(super) fn overshoot(&self, s: &Sphere) -> f64 {
+        s.radius - depth(&s.center.coords, &self.planes)
+    }
+
+    /// Whether `p` (shape frame) lies in the hull, by its face planes.
+    #[cfg(test)]
+    pub(super) fn holds(&self, p: &Point3<f64>) -> bool {
+        depth(&p.coords, &self.planes) >= 0.0
+    }
+}
+
+/// The depth (m) of `point` in the polytope of `planes`: the least `d − n·p` over the faces
+/// (negative outside).
+fn depth(point: &Vector3<f64>, planes: &[(Vector3<f64>, f64)]) -> f64 {
+    planes
+        .iter()
+        .map(|(n, d)| d - n.dot(point))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The radius of the ball at `center` enclosing `points`.
+fn enclosing(center: &Vector3<f64>, points: &[Vector3<f64>]) -> f64 {
+    points
+        .iter()
+        .map(|p| (p - center).norm())
+        .fold(0.0, f64::max)
+}
+
+/// How far past the hull's face planes the ball at `center` enclosing `points` reaches: its
+/// radius less the centre's depth in the hull (the least `d − n·c` over the faces; negative
+/// outside).
+fn overshoot(
+    center: &Vector3<f64>,
+    points: &[Vector3<f64>],
+    planes: &[(Vector3<f64>, f64)],
+) -> f64 {
+    enclosing(center, points) - depth(center, planes)
+}
+
+/// Steps (m) below which [`inward`] stops.
+const INWARD_STEP: f64 = 1e-4;
+
+/// A centre for the ball enclosing `points` (a cell's part of the hull) that reaches less far
+/// past the hull's faces than the ball at `start`: a pattern search, from `start` in steps
+/// of `scale / 2` halved down to [`INWARD_STEP`] along the 26 grid directions, of the convex
+/// [`overshoot`] (the ball's radius less its centre's depth), stopped once that is not
+/// positive. Moving the centre inwards grows the ball but moves it off the face: a ball
+/// around a thin slice of the hull at a face otherwise reaches out by about its radius.
+/// Any centre gives a ball that encloses `points`; this only chooses a tighter one.
+fn inward(
+    start: Vector3<f64>,
+    scale: f64,
+    points: &[Vector3<f64>],
+    planes: &[(Vector3<f64>, f64)],
+) -> Vector3<f64> {
+    let mut best = (start, overshoot(&start, points, planes));
+    let mut step = scale / 2.0;
+    while step >= INWARD_STEP && best.1 > 0.0 {
+        let mut moved = false;
+        for k in 0..27 {
+            if k == 13 {
+                continue;
+            }
+            let dir = Vector3::new(
+                (k % 3) as f64 - 1.0,
+                ((k / 3) % 3) as f64 - 1.0,
+                (k / 9) as f64 - 1.0,
+            );
+            let c = best.0 + dir.normalize() * step;
+            let f = overshoot(&c, points, planes);
+            if f < best.1 {
+                best = (c, f);
+                moved = true;
+            }
+        }
+        if !moved {
+            step /= 2.0;
+        }
+    }
+    best.0
 }
