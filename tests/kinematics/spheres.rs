@@ -689,8 +689,7 @@ fn pair_distance_tables_bound_the_exact_distance() {
                 );
                 if Some(p) == panda_pair {
                     certified += usize::from(bound > 0.0);
-                    spheres_meet +=
-                        usize::from(bound > 0.0 && spheres.pair_meets(&placed, i, k));
+                    spheres_meet += usize::from(bound > 0.0 && spheres.pair_meets(&placed, i, k));
                 }
             }
         }
@@ -841,4 +840,90 @@ fn exact_distances_are_parrys_bit_for_bit() {
             assert!(hull_pairs > pairs / 2, "{name}: {hull_pairs} of {pairs}");
         }
     }
+}
+
+/// Two [`ArmCheck`]s used one after the other on the same thread (as a planner does: one per
+/// phase, base pose and scene state) answer each for its own scene: a configuration and a
+/// motion free at one base pose but blocked at another (found by the exact check at both, on
+/// seeded random configurations of the Gen3) get each check's own answer, in either order,
+/// through the per-thread scratch and through one caller-owned scratch.
+#[test]
+fn checks_on_one_thread_answer_each_for_its_own_scene() {
+    let model = scene();
+    let data = zero_data(&model);
+    let robot = RobotModel::kinova_gen3_mobile();
+    let collision = RobotCollision::new(&robot).unwrap();
+    let spheres = RobotSpheres::new(&robot, &collision, &SphereSettings::default()).unwrap();
+    let bases = [[0.0, 0.0, 0.0], [0.25, 0.1, 0.4]];
+    let exact = |base: [f64; 3], q: &[f64]| {
+        let poses = robot
+            .link_poses(&RobotConfig {
+                base,
+                arm: DVector::from_column_slice(q),
+            })
+            .unwrap();
+        collision.self_collision(&poses).is_none()
+            && collision
+                .scene_collision(&poses, &model, &data, Exempt::Nothing, MARGIN)
+                .is_none()
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(41);
+    let mut found = 0;
+    for _ in 0..2000 {
+        let Some((a, b, _)) =
+            motion_from_free(&robot, &mut rng, &|q| exact(bases[0], q), 0.05..=0.3, 50)
+        else {
+            continue;
+        };
+        // Free at the first base pose (end state and motion), blocked at the second at `a`.
+        if !exact(bases[0], b.as_slice()) || exact(bases[1], a.as_slice()) {
+            continue;
+        }
+        let checks = bases.map(|base| {
+            ArmCheck::new(
+                &robot,
+                &collision,
+                &spheres,
+                edge_scene(&model, &data, MARGIN),
+                base,
+            )
+            .unwrap()
+        });
+        if !checks[0].check_motion(a.as_slice(), b.as_slice(), 0.01) {
+            continue;
+        }
+        found += 1;
+        let mut scratch = ArmCheckData::default();
+        for order in [[0, 1], [1, 0], [0, 1]] {
+            for k in order {
+                let free = k == 0;
+                assert_eq!(checks[k].is_valid(a.as_slice()), free, "check {k} at {a:?}");
+                assert_eq!(
+                    checks[k].is_valid_with(a.as_slice(), &mut scratch),
+                    free,
+                    "check {k} at {a:?}"
+                );
+            }
+            for k in order {
+                let free = k == 0;
+                assert_eq!(
+                    checks[k].check_motion(b.as_slice(), a.as_slice(), 0.01),
+                    free,
+                    "check {k} from {b:?}"
+                );
+                assert_eq!(
+                    checks[k].check_motion_with(b.as_slice(), a.as_slice(), 0.01, &mut scratch),
+                    free,
+                    "check {k} from {b:?}"
+                );
+            }
+        }
+        if found == 5 {
+            break;
+        }
+    }
+    assert!(
+        found >= 3,
+        "{found} configurations free at one base pose only"
+    );
 }

@@ -37,6 +37,7 @@
 
 use std::cell::RefCell;
 use std::collections::VecDeque;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use nalgebra::{Isometry3, Point3};
 
@@ -88,6 +89,17 @@ pub struct ArmCheck<'a> {
     band: f64,
     /// The clearance (m, `>= 0`) every checked link pair keeps ([`ArmCheck::with_self_margin`]).
     self_margin: f64,
+    /// This check's identity, unique in the process and renewed by every setting: a scratch
+    /// remembers an answer only together with the identity of the check that gave it
+    /// ([`ArmCheckData`]).
+    id: u64,
+}
+
+/// The next [`ArmCheck`] identity.
+static NEXT_ID: AtomicU64 = AtomicU64::new(1);
+
+fn fresh_id() -> u64 {
+    NEXT_ID.fetch_add(1, Ordering::Relaxed)
 }
 
 impl std::fmt::Debug for ArmCheck<'_> {
@@ -101,9 +113,14 @@ impl std::fmt::Debug for ArmCheck<'_> {
 }
 
 /// Scratch of [`ArmCheck`]: link poses, placed spheres, the links and pairs left for parry,
-/// one interpolated state and the bisection queue of a motion. Reused across calls.
+/// one interpolated state and the bisection queue of a motion. Reused across calls, and by
+/// any number of checks: the one answer it remembers (the last configuration found valid) is
+/// tied to the check that computed it, so another check (another scene, base pose or
+/// setting) never reads an answer that is not its own.
 #[derive(Debug, Clone, Default)]
 pub struct ArmCheckData {
+    /// The identity of the check whose answer `state.last_valid` is.
+    owner: u64,
     state: StateScratch,
     /// The interpolated configuration of a motion check.
     q: Vec<f64>,
@@ -226,6 +243,7 @@ impl<'a> ArmCheck<'a> {
             continuous: true,
             band: CONTINUOUS_BAND,
             self_margin: 0.0,
+            id: fresh_id(),
         })
     }
 
@@ -237,6 +255,7 @@ impl<'a> ArmCheck<'a> {
     /// checked states, and a real arm tracks its path with some error.
     pub fn with_self_margin(mut self, margin: f64) -> Self {
         self.self_margin = if margin > 0.0 { margin } else { 0.0 };
+        self.id = fresh_id();
         self
     }
 
@@ -246,6 +265,7 @@ impl<'a> ArmCheck<'a> {
     /// exists to measure what the spans save.
     pub fn with_spans(mut self, spans: bool) -> Self {
         self.spans = spans;
+        self.id = fresh_id();
         self
     }
 
@@ -269,6 +289,7 @@ impl<'a> ArmCheck<'a> {
             self.obstacles = self.obstacles.inflated((band - self.band) as f32);
             self.band = band;
             self.continuous = continuous;
+            self.id = fresh_id();
         }
         self
     }
@@ -285,7 +306,16 @@ impl<'a> ArmCheck<'a> {
 
     /// [`ArmCheck::is_valid`] with caller-owned scratch.
     pub fn is_valid_with(&self, q: &[f64], data: &mut ArmCheckData) -> bool {
+        self.adopt(data);
         self.state_valid(q, None, &mut data.state)
+    }
+
+    /// Makes `data` this check's: what it remembers of another check is forgotten.
+    fn adopt(&self, data: &mut ArmCheckData) {
+        if data.owner != self.id {
+            data.owner = self.id;
+            data.state.last_valid.clear();
+        }
     }
 
     /// Whether the straight motion from `a` to `b` is free, with per-thread scratch: by
@@ -325,6 +355,7 @@ impl<'a> ArmCheck<'a> {
         {
             return false;
         }
+        self.adopt(data);
         let s = &mut data.state;
         s.speed.clear();
         s.speed.extend(self.levers.iter().map(|levers| {

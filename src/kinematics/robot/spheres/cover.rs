@@ -26,7 +26,7 @@
 //!   axis, as many as fit (a rod-like link is covered more tightly by balls on its axis than
 //!   by a grid's boundary cells); the one kept has the least largest overshoot past a face
 //!   (radius less the centre's depth in the hull). On the Panda's link hulls at 12 spheres
-//!   this halves the overshoot (largest per link 2.3–4.0 cm against 4.0–7.8 cm for the box
+//!   this halves the overshoot (largest per link 1.9–4.0 cm against 4.0–7.8 cm for the box
 //!   centres of the smallest-cell grid).
 
 use nalgebra::{Isometry3, Matrix3, Point3, Rotation3, SymmetricEigen, UnitQuaternion, Vector3};
@@ -331,17 +331,17 @@ mod tests {
     fn a_face_slice_s_ball_is_moved_inwards() {
         let shape = cube_hull();
         let (compiled, shape_from_parry) = parry_shape(&shape).unwrap();
-        let polytope = Polytope::new(
-            compiled.as_convex_polyhedron().unwrap(),
-            &shape_from_parry,
-        );
+        let polytope = Polytope::new(compiled.as_convex_polyhedron().unwrap(), &shape_from_parry);
         let cell = Isometry3::translation(0.09, 0.0, 0.0);
         let ball = polytope
             .sphere_in_cell(&cell, &Vector3::repeat(0.05))
             .unwrap();
         let reach = polytope.overshoot(&ball);
         let best = 3f64.sqrt() * 0.05 - 0.05;
-        assert!(reach >= best - 1e-9 && reach <= best + 1e-3, "{reach} vs {best}");
+        assert!(
+            reach >= best - 1e-9 && reach <= best + 1e-3,
+            "{reach} vs {best}"
+        );
         for k in 0..8 {
             let c = |bit: usize, lo: f64, hi: f64| if k & (1 << bit) == 0 { lo } else { hi };
             let corner = Point3::new(c(0, 0.04, 0.05), c(1, -0.05, 0.05), c(2, -0.05, 0.05));
@@ -371,10 +371,7 @@ mod tests {
             source: None,
         };
         let (compiled, shape_from_parry) = parry_shape(&shape).unwrap();
-        let polytope = Polytope::new(
-            compiled.as_convex_polyhedron().unwrap(),
-            &shape_from_parry,
-        );
+        let polytope = Polytope::new(compiled.as_convex_polyhedron().unwrap(), &shape_from_parry);
         for budget in [1, 4, 12, 30] {
             let spheres = cover(&shape, budget).unwrap();
             assert!(!spheres.is_empty() && spheres.len() <= budget);
