@@ -199,20 +199,24 @@ fn inward(
     points: &[Vector3<f64>],
     planes: &[(Vector3<f64>, f64)],
 ) -> Vector3<f64> {
+    // The 26 unit directions to the neighbours of a grid point.
+    let directions: Vec<Vector3<f64>> = (0..27)
+        .filter(|&k| k != 13)
+        .map(|k| {
+            Vector3::new(
+                f64::from(k % 3) - 1.0,
+                f64::from((k / 3) % 3) - 1.0,
+                f64::from(k / 9) - 1.0,
+            )
+            .normalize()
+        })
+        .collect();
     let mut best = (start, overshoot(&start, points, planes));
     let mut step = scale / 2.0;
     while step >= INWARD_STEP && best.1 > 0.0 {
         let mut moved = false;
-        for k in 0..27 {
-            if k == 13 {
-                continue;
-            }
-            let dir = Vector3::new(
-                (k % 3) as f64 - 1.0,
-                ((k / 3) % 3) as f64 - 1.0,
-                (k / 9) as f64 - 1.0,
-            );
-            let c = best.0 + dir.normalize() * step;
+        for dir in &directions {
+            let c = best.0 + dir * step;
             let f = overshoot(&c, points, planes);
             if f < best.1 {
                 best = (c, f);

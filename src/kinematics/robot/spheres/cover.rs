@@ -98,8 +98,9 @@ fn total_volume(spheres: &[Sphere]) -> f64 {
     spheres.iter().map(|s| s.radius.powi(3)).sum()
 }
 
-/// The sphere covering the shape's part in a cell (pose, half extents), `None` if it misses.
-type CellFit<'a> = dyn Fn(&Isometry3<f64>, &Vector3<f64>) -> Option<Sphere> + 'a;
+/// The sphere covering the shape's part in a cell (pose, half extents), `None` if it misses
+/// (or, with another `T`, what a cell gives: `()` to count the cells kept).
+type CellFit<'a, T = Sphere> = dyn Fn(&Isometry3<f64>, &Vector3<f64>) -> Option<T> + 'a;
 
 /// The cell counts `(nx, ny, nz)`, product at most `budget`, that minimise the half-diagonal
 /// of a cell of the box with half extents `half`.
@@ -131,14 +132,14 @@ fn grid_cover(
     grid_cells(shape_from_box, half, grid_dims(half, budget), fit)
 }
 
-/// The cover of the box `shape_from_box` with half extents `half` by an `n[0] × n[1] × n[2]`
-/// grid of equal cells (see [`grid_cover`]).
-fn grid_cells(
+/// What `fit` gives for each cell of an `n[0] × n[1] × n[2]` grid of equal cells over the box
+/// `shape_from_box` with half extents `half` (see [`grid_cover`]), the `None`s left out.
+fn grid_cells<T>(
     shape_from_box: &Isometry3<f64>,
     half: &Vector3<f64>,
     n: [usize; 3],
-    fit: &CellFit<'_>,
-) -> Vec<Sphere> {
+    fit: &CellFit<'_, T>,
+) -> Vec<T> {
     let cell_half = Vector3::new(
         half.x / n[0] as f64,
         half.y / n[1] as f64,
@@ -184,10 +185,8 @@ fn hull(shape: &Shape, vertices: &[Point3<f64>], budget: usize) -> Result<Vec<Sp
             .map(|i| i.intersecting)
             .unwrap_or(true)
     };
-    // The cells a grid keeps (their spheres are not needed to count them).
-    let kept = |cell: &Isometry3<f64>, half: &Vector3<f64>| {
-        meets(cell, half).then(|| Sphere::new(Point3::origin(), 0.0))
-    };
+    // The cells a grid keeps (counted without their spheres).
+    let kept = |cell: &Isometry3<f64>, half: &Vector3<f64>| meets(cell, half).then_some(());
     let fit = |cell: &Isometry3<f64>, half: &Vector3<f64>| {
         if !meets(cell, half) {
             return None;
@@ -349,9 +348,9 @@ mod tests {
         }
     }
 
-    /// A hull's cover holds every point of the hull: a 21³ grid over an irregular hull's box,
-    /// the points inside it (by its face planes from a brute-force hull test: inside every
-    /// half-space of the faces parry found) each lie in some sphere, at every budget.
+    /// A hull's cover holds every point of the hull: of a 21³ grid over an irregular hull's
+    /// box, the points inside the hull (inside every half-space of the faces parry found) each
+    /// lie in some sphere, at every budget.
     #[test]
     fn a_hull_cover_holds_the_hull() {
         // An irregular hull: a rod bent at one end and a few stray points.
@@ -367,7 +366,7 @@ mod tests {
             Point3::new(-0.05, -0.06, -0.1),
         ]);
         let shape = Shape::ConvexMesh {
-            vertices: vertices.clone(),
+            vertices,
             source: None,
         };
         let (compiled, shape_from_parry) = parry_shape(&shape).unwrap();
