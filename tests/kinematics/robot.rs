@@ -1138,6 +1138,95 @@ fn bad_srdfs_are_typed_errors() {
     );
 }
 
+/// A robot whose torso and head are frozen into its base link: the base box (z ∈ [0, 0.3]),
+/// the torso box on a frozen lift (x, y ∈ [−0.1, 0.1], z ∈ [0.3, 0.55]), the head ball on a
+/// frozen pan joint (radius 0.1, centre (0, 0, 0.75)); the arm's first joint about z at
+/// (0.1, 0, 0.52), its link a capsule of radius 0.04 out along x to 0.3 m (its cap around the
+/// joint reaches x = 0.06 at z ∈ [0.48, 0.56], so it overlaps the torso in every
+/// configuration), the second joint about y at the capsule's end, its link a ball of radius
+/// 0.04 at 0.2 m along its x.
+const TORSO_ROBOT: &str = r#"<robot name="torso">
+  <link name="base"><collision><origin xyz="0 0 0.15"/><geometry><box size="0.4 0.4 0.3"/></geometry></collision></link>
+  <link name="torso"><collision><origin xyz="0 0 0.125"/><geometry><box size="0.2 0.2 0.25"/></geometry></collision></link>
+  <joint name="lift" type="prismatic"><origin xyz="0 0 0.3"/><parent link="base"/><child link="torso"/><axis xyz="0 0 1"/><limit lower="0" upper="0.2" velocity="0.1"/></joint>
+  <link name="head"><collision><geometry><sphere radius="0.1"/></geometry></collision></link>
+  <joint name="pan" type="revolute"><origin xyz="0 0 0.45"/><parent link="torso"/><child link="head"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" velocity="1"/></joint>
+  <link name="l1"><collision><origin xyz="0.15 0 0" rpy="0 1.5707963267948966 0"/><geometry><capsule radius="0.04" length="0.3"/></geometry></collision></link>
+  <joint name="j1" type="revolute"><origin xyz="0.1 0 0.22"/><parent link="torso"/><child link="l1"/><axis xyz="0 0 1"/><limit lower="-3.2" upper="3.2" velocity="1"/></joint>
+  <link name="l2"><collision><origin xyz="0.2 0 0"/><geometry><sphere radius="0.04"/></geometry></collision></link>
+  <joint name="j2" type="revolute"><origin xyz="0.3 0 0"/><parent link="l1"/><child link="l2"/><axis xyz="0 1 0"/><limit lower="-2.6" upper="2.6" velocity="1"/></joint>
+  <link name="tool_frame"/>
+  <joint name="tool_joint" type="fixed"><origin xyz="0.25 0 0"/><parent link="l2"/><child link="tool_frame"/></joint>
+</robot>"#;
+
+/// An SRDF that disables some pairs of the URDF links two robot links carry exempts those
+/// links' colliders only: the torso (frozen into the base link) and `l1` are exempt, the head
+/// (frozen into the base link too) and `l2` are not.
+/// - Arm straight out (j1 = j2 = 0): `l1` overlaps the torso, nothing else touches (by hand:
+///   `l2`'s ball at (0.6, 0, 0.52)). No self-collision. Before collider-level exemptions the
+///   SRDF's exemption of (torso, l1) was dropped, since (base, l1) and (head, l1) are not
+///   disabled, and every configuration collided.
+/// - j1 = π, j2 = −θ with cos θ = −0.656 (θ = 2.287): `l2` points from its joint at
+///   (−0.2, 0, 0.52) towards the head centre, (0.2, 0, 0.23)/0.305 = (0.656, 0, 0.754); its
+///   ball at (−0.069, 0, 0.671) is 0.105 m from the head centre (< 0.1 + 0.04) and 0.121 m
+///   above the torso's top (> 0.04): the head and `l2` collide, named by the head's URDF link.
+/// - The exemptions survive a round trip through the robot's own SRDF.
+#[test]
+fn an_srdf_exempts_the_colliders_of_merged_links_pair_by_pair() {
+    use kinscene::kinematics::robot::Srdf;
+    let srdf = Srdf::parse(
+        r#"<robot name="torso">
+  <disable_collisions link1="torso" link2="l1" reason="Adjacent"/>
+  <disable_collisions link1="l1" link2="l2" reason="Adjacent"/>
+</robot>"#,
+    )
+    .unwrap();
+    // The arm starts at the torso: the lift and the head's pan are frozen (at 0).
+    let loaded = RobotModel::from_urdf_str_with(
+        TORSO_ROBOT,
+        &RobotImportOptions {
+            arm_root: Some("torso".into()),
+            ..RobotImportOptions::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(loaded.dof(), 2);
+    assert_eq!(loaded.links()[0].merged, ["base", "torso", "head"]);
+    let robot = loaded.clone().with_srdf(&srdf).unwrap();
+    let exempt = robot.exempt_colliders();
+    assert_eq!(exempt.len(), 1);
+    // The base link's colliders: base box 0, torso box 1, head ball 2; l1's capsule 0.
+    assert_eq!((exempt[0].link1, exempt[0].link2), (0, 1));
+    assert_eq!(exempt[0].colliders, vec![(1, 0)]);
+    let collision = RobotCollision::new(&robot).unwrap();
+    let poses = |j1: f64, j2: f64| {
+        robot
+            .link_poses(&RobotConfig {
+                base: [0.0; 3],
+                arm: DVector::from_vec(vec![j1, j2]),
+            })
+            .unwrap()
+    };
+    let out = poses(0.0, 0.0);
+    assert_eq!(collision.self_collision(&out), None);
+    // The pair itself touches (the torso), so without the collider exemptions it collides.
+    assert!(!collision.pair_touches(&out, 0, 1));
+    let whole = RobotCollision::new(&loaded.clone().with_allowed_pairs(vec![]).unwrap()).unwrap();
+    assert!(whole.pair_touches(&out, 0, 1));
+    let theta = (-0.656f64).acos();
+    let at_head = poses(PI, -theta);
+    assert_eq!(collision.self_collision(&at_head), Some((0, 2)));
+    let (a, b) = collision.closest_colliders(&at_head, 0, 2).unwrap();
+    assert_eq!(robot.links()[0].source(a), Some("head"));
+    assert_eq!(robot.links()[2].source(b), Some("l2"));
+    // Back through the robot's own SRDF: the same exemptions.
+    let again = loaded
+        .with_srdf(&Srdf::parse(&robot.to_srdf().to_xml().unwrap()).unwrap())
+        .unwrap();
+    assert_eq!(again.exempt_colliders(), robot.exempt_colliders());
+    assert_eq!(again.allowed_pairs(), robot.allowed_pairs());
+}
+
 /// The floor carries the base: the toy's base box spans z ∈ [0, 0.5], so it touches a floor
 /// slab whose top is z = 0, and that is no collision; a 1 cm kerb on the floor next to the
 /// box (top z = 0.01, above `GROUND_TOP`) is one, for the base link. The arm keeps the margin

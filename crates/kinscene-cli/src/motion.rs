@@ -166,8 +166,9 @@ mod imp {
                             unknown.join(", ")
                         );
                     }
+                    let stowed = loaded.srdf_stow(&srdf).is_some();
                     let described = loaded.with_srdf(&srdf).map_err(at)?;
-                    if srdf.stow_state().is_some() {
+                    if stowed {
                         described
                     } else {
                         described

@@ -128,7 +128,7 @@ pub use model::{
     DEFAULT_PRISMATIC_ACCELERATION, DEFAULT_REVOLUTE_ACCELERATION, FrozenJoint, MobileBase,
     RobotConfig, RobotImportOptions, RobotLink, RobotModel,
 };
-pub use pairs::{AllowedPair, PairReason, PairSampling};
+pub use pairs::{AllowedPair, ExemptColliders, PairReason, PairSampling};
 pub use pinocchio::TOOL_FRAME;
 pub use spheres::{
     ArmCheck, ArmCheckData, CELL_SLACK, CONTACT_CLEARANCE, CONTINUOUS_BAND, EdgeScene,

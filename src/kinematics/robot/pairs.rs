@@ -53,6 +53,22 @@ pub struct AllowedPair {
     pub reason: PairReason,
 }
 
+/// A link pair that is checked, but of which some collider pairs are exempt: each robot link
+/// carries the colliders of several URDF links ([`RobotLink::merged`](super::RobotLink::merged),
+/// through fixed and frozen joints), and an SRDF disables some of the URDF link pairs between
+/// them but not all (on a mobile manipulator whose torso is frozen into the base, the arm's
+/// first link and the torso, but not the arm's first link and the head).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ExemptColliders {
+    /// The first link (index into [`RobotModel::links`]).
+    pub link1: usize,
+    /// The second link, `link1 < link2`.
+    pub link2: usize,
+    /// The exempt collider pairs `(a, b)`: collider `a` of `link1` and collider `b` of
+    /// `link2` (indices into their [`colliders`](super::RobotLink::colliders)), sorted.
+    pub colliders: Vec<(usize, usize)>,
+}
+
 /// How [`RobotModel::with_sampled_pairs`] finds the exempt pairs.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PairSampling {
@@ -90,6 +106,13 @@ impl RobotModel {
     /// touching at [`RobotModel::neutral`]).
     pub fn allowed_pairs(&self) -> Option<&[AllowedPair]> {
         self.allowed_pairs.as_deref()
+    }
+
+    /// The checked link pairs of which some collider pairs are exempt (from
+    /// [`RobotModel::with_srdf`]: the colliders of URDF links whose pair the SRDF disables);
+    /// [`RobotCollision`] skips those collider pairs. Empty without an SRDF.
+    pub fn exempt_colliders(&self) -> &[ExemptColliders] {
+        &self.exempt_colliders
     }
 
     /// This robot with these self-collision exemptions (every other pair of links with shapes
@@ -132,9 +155,11 @@ impl RobotModel {
     /// - its `disable_collisions` pairs as the self-collision exemptions, never more than the
     ///   SRDF exempts: two robot links are exempt when every pair of the URDF links they carry
     ///   ([`RobotLink::merged`](super::RobotLink::merged), the links merged into them through
-    ///   fixed and frozen joints) is disabled; pairs naming a link with no collision elements
+    ///   fixed and frozen joints) is disabled; when only some are, the pairs of their colliders
+    ///   are exempt and the rest of the link pair is checked
+    ///   ([`RobotModel::exempt_colliders`]); pairs naming a link with no collision elements
     ///   or not in the URDF are skipped (see [`RobotModel::srdf_unknown_links`]);
-    /// - its stowed group state ([`Srdf::stow_state`]) as [`RobotModel::neutral`]: the arm
+    /// - its stowed group state ([`RobotModel::srdf_stow`]) as [`RobotModel::neutral`]: the arm
     ///   joints it names take its values, the others keep theirs.
     ///
     /// # Errors
@@ -148,6 +173,7 @@ impl RobotModel {
                 .find(|d| (d.link1 == a && d.link2 == b) || (d.link1 == b && d.link2 == a))
         };
         let mut pairs = Vec::new();
+        let mut partial = Vec::new();
         for i in 0..self.links.len() {
             for j in i + 1..self.links.len() {
                 let (x, y) = (&self.links[i].merged, &self.links[j].merged);
@@ -170,11 +196,31 @@ impl RobotModel {
                         link2: j,
                         reason: PairReason::Srdf(reason.unwrap_or_default()),
                     });
+                    continue;
+                }
+                // Some URDF link pairs disabled: their colliders' pairs.
+                let (li, lj) = (&self.links[i], &self.links[j]);
+                let mut colliders = Vec::new();
+                for a in 0..li.colliders.len() {
+                    for b in 0..lj.colliders.len() {
+                        if let (Some(x), Some(y)) = (li.source(a), lj.source(b))
+                            && disabled(x, y).is_some()
+                        {
+                            colliders.push((a, b));
+                        }
+                    }
+                }
+                if !colliders.is_empty() {
+                    partial.push(ExemptColliders {
+                        link1: i,
+                        link2: j,
+                        colliders,
+                    });
                 }
             }
         }
         let mut neutral = self.neutral.clone();
-        if let Some(state) = srdf.stow_state() {
+        if let Some(state) = self.srdf_stow(srdf) {
             for (joint, values) in &state.joints {
                 let Some(k) = self.joints.iter().position(|j| &j.name == joint) else {
                     continue;
@@ -188,7 +234,16 @@ impl RobotModel {
                 neutral[k] = values[0];
             }
         }
-        self.with_allowed_pairs(pairs)?.with_neutral(&neutral)
+        let mut robot = self.with_allowed_pairs(pairs)?.with_neutral(&neutral)?;
+        robot.exempt_colliders = Arc::from(partial);
+        Ok(robot)
+    }
+
+    /// The SRDF's group state this robot takes as its stow: [`Srdf::stow_state_for`] this
+    /// robot's arm joints.
+    pub fn srdf_stow<'s>(&self, srdf: &'s Srdf) -> Option<&'s GroupState> {
+        let joints: Vec<&str> = self.joints.iter().map(|j| j.name.as_str()).collect();
+        srdf.stow_state_for(&joints)
     }
 
     /// The link names an SRDF's `disable_collisions` pairs use that carry no collision
@@ -329,7 +384,8 @@ impl RobotModel {
                     .map(|(j, &q)| (j.name.clone(), vec![q]))
                     .collect(),
             }],
-            // Every pair of the URDF links the two robot links carry.
+            // Every pair of the URDF links the two robot links carry, then the URDF link
+            // pairs of the partly exempt link pairs.
             disabled: self
                 .allowed_pairs()
                 .unwrap_or_default()
@@ -344,7 +400,32 @@ impl RobotModel {
                         })
                     })
                 })
+                .chain(
+                    self.exempt_colliders
+                        .iter()
+                        .flat_map(|e| self.source_pairs(e)),
+                )
                 .collect(),
         }
+    }
+
+    /// The URDF link pairs the collider pairs of `e` come from, each once (in order of first
+    /// appearance), as SRDF lines.
+    fn source_pairs(&self, e: &ExemptColliders) -> Vec<DisabledPair> {
+        let (li, lj) = (&self.links[e.link1], &self.links[e.link2]);
+        let mut out: Vec<DisabledPair> = Vec::new();
+        for &(a, b) in &e.colliders {
+            let (Some(x), Some(y)) = (li.source(a), lj.source(b)) else {
+                continue;
+            };
+            if !out.iter().any(|d| d.link1 == x && d.link2 == y) {
+                out.push(DisabledPair {
+                    link1: x.to_owned(),
+                    link2: y.to_owned(),
+                    reason: PairReason::Srdf(String::new()).to_string(),
+                });
+            }
+        }
+        out
     }
 }

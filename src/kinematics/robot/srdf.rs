@@ -132,6 +132,43 @@ impl Srdf {
         })
     }
 
+    /// The group state taken as the stowed configuration of the arm whose joints are `joints`:
+    /// among the group states named as [`Srdf::stow_state`] names them, then those whose name
+    /// has one of those words as a part (`tuck_right_arm`, `arm_home`: parts split at `_`, `-`,
+    /// `.` and spaces), in that order of preference, the first that sets every joint of
+    /// `joints`, else the first that sets any (a two-armed robot's SRDF tucks each arm in its
+    /// own state). With `joints` empty, the first of them.
+    pub fn stow_state_for(&self, joints: &[&str]) -> Option<&GroupState> {
+        let named = |word: &str, s: &GroupState| s.name.eq_ignore_ascii_case(word);
+        let part = |word: &str, s: &GroupState| {
+            s.name
+                .split(['_', '-', '.', ' '])
+                .any(|p| p.eq_ignore_ascii_case(word))
+        };
+        let candidates: Vec<&GroupState> = STOW_STATE_NAMES
+            .iter()
+            .flat_map(|w| self.group_states.iter().filter(move |s| named(w, s)))
+            .chain(
+                STOW_STATE_NAMES
+                    .iter()
+                    .flat_map(|w| self.group_states.iter().filter(move |s| part(w, s))),
+            )
+            .collect();
+        if joints.is_empty() {
+            return candidates.first().copied();
+        }
+        let sets = |s: &GroupState, j: &str| s.joints.iter().any(|(name, _)| name == j);
+        candidates
+            .iter()
+            .find(|s| joints.iter().all(|j| sets(s, j)))
+            .or_else(|| {
+                candidates
+                    .iter()
+                    .find(|s| joints.iter().any(|j| sets(s, j)))
+            })
+            .copied()
+    }
+
     /// The document as SRDF text (groups, group states and disabled pairs; loads back with
     /// [`Srdf::parse`] to an equal value).
     ///
@@ -304,12 +341,51 @@ mod tests {
         assert_eq!(srdf.disabled[1].reason, "Never");
         // "stow" ranks above "ready", matched without regard to case.
         assert_eq!(srdf.stow_state().unwrap().name, "Stow");
+        assert_eq!(srdf.stow_state_for(&[]).unwrap().name, "Stow");
         assert_eq!(Srdf::parse(&srdf.to_xml().unwrap()).unwrap(), srdf);
         let bad = Srdf {
             robot: "bell\u{7}".into(),
             ..Srdf::default()
         };
         assert!(matches!(bad.to_xml(), Err(RobotError::Srdf { .. })));
+    }
+
+    /// A two-armed robot's SRDF tucks each arm in its own state (as PR2's does): the state
+    /// for an arm is the one that sets its joints; a state named exactly comes first.
+    #[test]
+    fn each_arm_takes_the_stow_state_that_sets_its_joints() {
+        let two_arms = r#"<robot name="two">
+  <group_state name="tuck_left_arm" group="left_arm"><joint name="l1" value="0.5"/><joint name="l2" value="1"/></group_state>
+  <group_state name="Tuck-Right-Arm" group="right_arm"><joint name="r1" value="-0.5"/><joint name="r2" value="1"/></group_state>
+  <group_state name="wave" group="right_arm"><joint name="r1" value="2"/></group_state>
+</robot>"#;
+        let srdf = Srdf::parse(two_arms).unwrap();
+        // Neither is named exactly as a stow.
+        assert!(srdf.stow_state().is_none());
+        assert_eq!(
+            srdf.stow_state_for(&["r1", "r2"]).unwrap().name,
+            "Tuck-Right-Arm"
+        );
+        assert_eq!(
+            srdf.stow_state_for(&["l1", "l2"]).unwrap().name,
+            "tuck_left_arm"
+        );
+        // One joint of the arm set: still that arm's.
+        assert_eq!(
+            srdf.stow_state_for(&["r2", "r3"]).unwrap().name,
+            "Tuck-Right-Arm"
+        );
+        assert!(srdf.stow_state_for(&["x"]).is_none());
+        // "tuck" must be a whole part of the name.
+        let tucker = Srdf::parse(
+            r#"<robot><group_state name="tucker" group="a"><joint name="r1" value="0"/></group_state></robot>"#,
+        )
+        .unwrap();
+        assert!(tucker.stow_state_for(&["r1"]).is_none());
+        // A state named exactly comes before a part match.
+        let both = two_arms.replace("wave", "home");
+        let both = Srdf::parse(&both).unwrap();
+        assert_eq!(both.stow_state_for(&["r1"]).unwrap().name, "home");
     }
 
     #[test]

@@ -21,7 +21,9 @@ pub(crate) fn reached_prefix(reached: &[bool]) -> usize {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Obstacle {
     /// Two links of the robot, `(i, j)` with `i < j` (indices into
-    /// [`RobotModel::links`](crate::kinematics::robot::RobotModel::links)), and their names.
+    /// [`RobotModel::links`](crate::kinematics::robot::RobotModel::links)), and their names
+    /// (a link carrying other URDF links through fixed or frozen joints is named
+    /// `link/urdf_link`, after the URDF link whose shape touches).
     SelfCollision(usize, usize, [String; 2]),
     /// A robot link and a scene body.
     Scene {
@@ -53,13 +55,44 @@ impl Obstacle {
         margin: f64,
         self_margin: f64,
     ) -> Option<Obstacle> {
-        let name = |l: usize| robot.links()[l].name.clone();
         if let Some((i, j)) = collision.self_collision_within(link_poses, self_margin) {
-            return Some(Obstacle::SelfCollision(i, j, [name(i), name(j)]));
+            return Some(Obstacle::self_collision(
+                robot,
+                collision,
+                link_poses,
+                (i, j),
+            ));
         }
         collision
             .scene_collision(link_poses, model, data, exempt, margin)
             .map(|hit| Obstacle::scene(robot, model, hit))
+    }
+
+    /// Links `i` and `j` touching, named: each by its robot link name, followed by
+    /// `/` and the URDF link of the touching collider when that is another URDF link merged
+    /// into it (`base_footprint/l_forearm_link`: a frozen arm's forearm, carried by the base).
+    pub(crate) fn self_collision(
+        robot: &RobotModel,
+        collision: &RobotCollision,
+        link_poses: &[Isometry3<f64>],
+        (i, j): (usize, usize),
+    ) -> Obstacle {
+        let merged = |l: usize| robot.links()[l].merged.len() > 1;
+        let closest = (merged(i) || merged(j))
+            .then(|| collision.closest_colliders(link_poses, i, j))
+            .flatten();
+        let name = |l: usize, c: Option<usize>| {
+            let link = &robot.links()[l];
+            match c.and_then(|c| link.source(c)) {
+                Some(source) if source != link.name => format!("{}/{source}", link.name),
+                _ => link.name.clone(),
+            }
+        };
+        Obstacle::SelfCollision(
+            i,
+            j,
+            [name(i, closest.map(|c| c.0)), name(j, closest.map(|c| c.1))],
+        )
     }
 
     /// A robot link touching a scene body, named.

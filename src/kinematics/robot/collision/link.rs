@@ -3,7 +3,7 @@
 
 use nalgebra::Isometry3;
 
-use super::{GROUND_TOP, RobotCollision, min_distance, scene_shapes};
+use super::{GROUND_TOP, RobotCollision, scene_shapes};
 use crate::kinematics::robot::Exempt;
 use crate::scene::collision::Body;
 use crate::scene::collision::geometry::Placed;
@@ -49,10 +49,41 @@ impl RobotCollision {
         match (link_poses.get(i), link_poses.get(j)) {
             (Some(pi), Some(pj)) if i < self.shapes.len() && j < self.shapes.len() => {
                 let (a, b) = (self.place_link(i, pi), self.place_link(j, pj));
-                min_distance(&a, &b, 0.0) <= 0.0
+                self.pair_min_distance(i, j, &a, &b, 0.0) <= 0.0
             }
             _ => false,
         }
+    }
+
+    /// The colliders `(a, b)` of links `i` and `j` (indices into their colliders) that come
+    /// closest at `link_poses`, among the pairs the robot does not exempt; `None` if either
+    /// link has no pose or no shapes. To name what touches, with
+    /// [`RobotLink::source`](crate::kinematics::robot::RobotLink::source).
+    pub fn closest_colliders(
+        &self,
+        link_poses: &[Isometry3<f64>],
+        i: usize,
+        j: usize,
+    ) -> Option<(usize, usize)> {
+        let (pi, pj) = (link_poses.get(i)?, link_poses.get(j)?);
+        if i >= self.shapes.len() || j >= self.shapes.len() {
+            return None;
+        }
+        let (a, b) = (self.place_link(i, pi), self.place_link(j, pj));
+        let mut best: Option<(f64, (usize, usize))> = None;
+        for (x, pa) in a.iter().enumerate() {
+            for (y, pb) in b.iter().enumerate() {
+                let pair = if i < j { (x, y) } else { (y, x) };
+                if self.exempt_collider_pair((i.min(j), i.max(j)), pair) {
+                    continue;
+                }
+                let d = pa.distance_within(pb, f64::INFINITY);
+                if best.is_none_or(|(e, _)| d < e) {
+                    best = Some((d, (x, y)));
+                }
+            }
+        }
+        best.map(|(_, p)| p)
     }
 
     /// The exact distance (m) between the shapes of links `i` and `j` at `link_poses` (parry;
@@ -62,7 +93,7 @@ impl RobotCollision {
         match (link_poses.get(i), link_poses.get(j)) {
             (Some(pi), Some(pj)) if i < self.shapes.len() && j < self.shapes.len() => {
                 let (a, b) = (self.place_link(i, pi), self.place_link(j, pj));
-                min_distance(&a, &b, f64::INFINITY)
+                self.pair_min_distance(i, j, &a, &b, f64::INFINITY)
             }
             _ => f64::INFINITY,
         }
@@ -83,7 +114,7 @@ impl RobotCollision {
         match (link_poses.get(i), link_poses.get(j)) {
             (Some(pi), Some(pj)) if i < self.shapes.len() && j < self.shapes.len() => {
                 let (a, b) = (self.place_link(i, pi), self.place_link(j, pj));
-                min_distance(&a, &b, cutoff).min(cutoff)
+                self.pair_min_distance(i, j, &a, &b, cutoff).min(cutoff)
             }
             _ => f64::INFINITY,
         }

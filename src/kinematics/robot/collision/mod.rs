@@ -112,6 +112,10 @@ pub struct RobotCollision {
     checked: Vec<(usize, usize)>,
     /// Link pairs `(i, j)`, `i < j`, exempt from self-collision checking.
     allowed: Vec<(usize, usize)>,
+    /// Checked link pairs `(i, j)` of which some collider pairs are exempt
+    /// ([`RobotModel::exempt_colliders`]): row-major flags, `true` for collider `a` of `i`
+    /// and `b` of `j` exempt at `a · (colliders of j) + b`.
+    masks: std::collections::BTreeMap<(usize, usize), Vec<bool>>,
     /// Links rigidly attached to the base.
     base_links: Vec<usize>,
 }
@@ -155,18 +159,36 @@ impl RobotCollision {
             spheres,
             checked: Vec::new(),
             allowed: Vec::new(),
+            masks: std::collections::BTreeMap::new(),
             base_links: vec![0],
         };
         let n = robot.links().len();
         if let Some(pairs) = robot.allowed_pairs() {
             let listed: std::collections::BTreeSet<(usize, usize)> =
                 pairs.iter().map(|p| (p.link1, p.link2)).collect();
+            for e in robot.exempt_colliders() {
+                let (a, b) = (
+                    collision.shapes[e.link1].len(),
+                    collision.shapes[e.link2].len(),
+                );
+                let mut mask = vec![false; a * b];
+                for &(x, y) in &e.colliders {
+                    if x < a && y < b {
+                        mask[x * b + y] = true;
+                    }
+                }
+                collision.masks.insert((e.link1, e.link2), mask);
+            }
             for i in 0..n {
                 for j in i + 1..n {
                     if collision.shapes[i].is_empty() || collision.shapes[j].is_empty() {
                         continue;
                     }
-                    if listed.contains(&(i, j)) {
+                    let all_masked = collision
+                        .masks
+                        .get(&(i, j))
+                        .is_some_and(|m| m.iter().all(|x| *x));
+                    if listed.contains(&(i, j)) || all_masked {
                         collision.allowed.push((i, j));
                     } else {
                         collision.checked.push((i, j));
@@ -276,7 +298,7 @@ impl RobotCollision {
             let (Some(a), Some(b)) = (&placed[i], &placed[j]) else {
                 continue;
             };
-            if !visit(i, j, min_distance(a, b, cutoff)) {
+            if !visit(i, j, self.pair_min_distance(i, j, a, b, cutoff)) {
                 return;
             }
         }
@@ -439,6 +461,28 @@ impl RobotCollision {
         touching
     }
 
+    /// Whether collider pair `(a, b)` of link pair `(i, j)`, `i < j`, is exempt.
+    fn exempt_collider_pair(&self, (i, j): (usize, usize), (a, b): (usize, usize)) -> bool {
+        self.masks.get(&(i, j)).is_some_and(|m| {
+            let n = self.shapes[j].len();
+            m.get(a * n + b).copied().unwrap_or(false)
+        })
+    }
+
+    /// The least distance between links `i < j`, placed as `a` and `b`, as [`min_distance`]
+    /// takes it, without the collider pairs the robot exempts.
+    fn pair_min_distance(
+        &self,
+        i: usize,
+        j: usize,
+        a: &[Placed<'_>],
+        b: &[Placed<'_>],
+        cutoff: f64,
+    ) -> f64 {
+        let (i, j, a, b) = if i < j { (i, j, a, b) } else { (j, i, b, a) };
+        masked_min_distance(a, b, cutoff, self.masks.get(&(i, j)).map(Vec::as_slice))
+    }
+
     /// Every link's shapes placed at `link_poses`.
     fn place<'a>(&'a self, link_poses: &[Isometry3<f64>]) -> Vec<Vec<Placed<'a>>> {
         (0..self.shapes.len().min(link_poses.len()))
@@ -466,9 +510,22 @@ impl RobotCollision {
 /// The smallest distance between two sets of placed shapes, exact when it is `<= cutoff`
 /// (pairs whose bounding spheres are farther apart than `cutoff` are skipped; `+∞` if all are).
 fn min_distance(a: &[Placed<'_>], b: &[Placed<'_>], cutoff: f64) -> f64 {
+    masked_min_distance(a, b, cutoff, None)
+}
+
+/// [`min_distance`] without the shape pairs `(x, y)` whose flag `mask[x · b.len() + y]` is set.
+fn masked_min_distance(
+    a: &[Placed<'_>],
+    b: &[Placed<'_>],
+    cutoff: f64,
+    mask: Option<&[bool]>,
+) -> f64 {
     let mut best = f64::INFINITY;
-    for x in a {
-        for y in b {
+    for (i, x) in a.iter().enumerate() {
+        for (j, y) in b.iter().enumerate() {
+            if mask.is_some_and(|m| m.get(i * b.len() + j).copied().unwrap_or(false)) {
+                continue;
+            }
             if x.sphere_gap(y) > cutoff {
                 continue;
             }

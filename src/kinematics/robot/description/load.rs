@@ -90,7 +90,7 @@ impl RobotModel {
         let loaded = RobotModel::from_urdf_file_with(&resolved.urdf, &resolved.options)?;
         let stow = described_stow(&loaded, &description.stow)?;
         let srdf = resolved.srdf.as_deref().map(Srdf::from_file).transpose()?;
-        let srdf_stow = srdf.as_ref().is_some_and(|s| s.stow_state().is_some());
+        let srdf_stow = srdf.as_ref().is_some_and(|s| loaded.srdf_stow(s).is_some());
         // The exemptions first: the computed stow is judged with them. Sampled ones leave out
         // the pairs touching at the stow, so a described stow in collision cannot exempt its
         // own collision (a computed stow touches only pairs the samples exempt anyway).
@@ -108,7 +108,11 @@ impl RobotModel {
             None => robot.with_computed_stow(&StowSearch::default())?,
         };
         if let Some(q) = &stow {
-            check_stow_free(&robot, q)?;
+            check_stow_free(&robot, q, "stow")?;
+        }
+        if let Some(state) = srdf.as_ref().and_then(|s| robot.srdf_stow(s)) {
+            let field = format!("srdf group_state {:?}", state.name);
+            check_stow_free(&robot, &robot.neutral(), &field)?;
         }
         let mut base = robot.base().clone();
         base.kind = kind;
@@ -210,20 +214,33 @@ fn described_stow(
 }
 
 /// The described stow is free of self-collision under the robot's exemptions.
-fn check_stow_free(robot: &RobotModel, q: &DVector<f64>) -> Result<(), RobotError> {
+fn check_stow_free(robot: &RobotModel, q: &DVector<f64>, field: &str) -> Result<(), RobotError> {
     let poses = robot.link_poses(&RobotConfig {
         base: [0.0; 3],
         arm: q.clone(),
     })?;
-    match RobotCollision::new(robot)?.self_collision(&poses) {
+    let collision = RobotCollision::new(robot)?;
+    match collision.self_collision(&poses) {
         None => Ok(()),
-        Some((a, b)) => Err(RobotError::Description {
-            field: "stow".to_owned(),
-            message: format!(
-                "links {:?} and {:?} collide in the stowed configuration",
-                robot.links()[a].name,
-                robot.links()[b].name
-            ),
-        }),
+        Some((a, b)) => {
+            // Named by the URDF links whose shapes touch (a frozen joint's links are carried
+            // by the link above it).
+            let closest = collision.closest_colliders(&poses, a, b);
+            let name = |l: usize, c: Option<usize>| {
+                let link = &robot.links()[l];
+                match c.and_then(|c| link.source(c)) {
+                    Some(s) if s != link.name => format!("{s:?} (carried by {:?})", link.name),
+                    _ => format!("{:?}", link.name),
+                }
+            };
+            Err(RobotError::Description {
+                field: field.to_owned(),
+                message: format!(
+                    "links {} and {} collide in the stowed configuration",
+                    name(a, closest.map(|c| c.0)),
+                    name(b, closest.map(|c| c.1))
+                ),
+            })
+        }
     }
 }

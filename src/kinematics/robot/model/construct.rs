@@ -129,6 +129,7 @@ impl RobotModel {
             pinocchio: Arc::new(pinocchio),
             tool_frame,
             allowed_pairs: None,
+            exempt_colliders: Arc::from(Vec::new()),
             frozen: parsed.frozen,
         };
         robot.base.footprint_radius = robot.footprint_at_neutral();

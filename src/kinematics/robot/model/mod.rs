@@ -39,6 +39,9 @@ pub struct RobotModel {
     /// The self-collision exemptions, when given or computed (see
     /// [`RobotModel::allowed_pairs`]).
     pub(super) allowed_pairs: Option<Arc<[super::AllowedPair]>>,
+    /// Checked link pairs of which only some collider pairs are exempt (see
+    /// [`RobotModel::exempt_colliders`]).
+    pub(super) exempt_colliders: Arc<[super::ExemptColliders]>,
     pub(super) frozen: Vec<FrozenJoint>,
 }
 

@@ -158,9 +158,19 @@ pub struct RobotLink {
     /// The URDF links whose collision elements this link carries (itself and the links merged
     /// into it through fixed or frozen joints), in the order they were merged.
     pub merged: Vec<String>,
+    /// One index into [`RobotLink::merged`] per collider: the URDF link it comes from (an SRDF
+    /// exempts pairs of URDF links). Empty: every collider comes from the first.
+    pub sources: Vec<usize>,
 }
 
 impl RobotLink {
+    /// The URDF link (name) collider `k` comes from; `None` for a link that carries no
+    /// URDF link's collision elements.
+    pub fn source(&self, k: usize) -> Option<&str> {
+        let m = self.sources.get(k).copied().unwrap_or(0);
+        self.merged.get(m).map(String::as_str)
+    }
+
     /// The link's colliders with their contact flags.
     pub fn colliders_with_contact(&self) -> impl Iterator<Item = (&Collider, bool)> {
         self.colliders

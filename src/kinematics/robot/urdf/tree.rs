@@ -144,6 +144,7 @@ impl Tree {
                 colliders: Vec::new(),
                 contact: Vec::new(),
                 merged: Vec::new(),
+                sources: Vec::new(),
             }],
             contact: options.contact_links.as_deref(),
             owner: vec![None; robot.links.len()],

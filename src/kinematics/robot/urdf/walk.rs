@@ -72,6 +72,7 @@ impl Walk<'_> {
                 colliders: Vec::new(),
                 contact: Vec::new(),
                 merged: Vec::new(),
+                sources: Vec::new(),
             });
             self.owner[child] = Some((k + 1, Isometry3::identity()));
             return Ok(());
@@ -131,11 +132,13 @@ impl Walk<'_> {
             };
             let contact = owner == self.arm.len() && self.is_contact(&link.name, collision);
             let owner_link = &mut self.links[owner];
+            let source = owner_link.merged.len() - 1;
             for shape in shapes {
                 owner_link
                     .colliders
                     .push(Collider::new(shape, owner_from_link * pose));
                 owner_link.contact.push(contact);
+                owner_link.sources.push(source);
             }
         }
         Ok(())
