@@ -1,7 +1,9 @@
 //! IK along the grasp trajectory at one base pose, with continuity, joint-jump and collision
 //! checks: the [`ManipulationPlan`].
 
+use std::collections::BTreeSet;
 use std::f64::consts::PI;
+use std::sync::Mutex;
 
 use nalgebra::{DVector, Isometry3, Vector3};
 
@@ -50,7 +52,7 @@ pub(crate) struct Attempt<'a> {
 
 /// A joint motion prepared for repeated planning at different base poses: the scene's forward
 /// kinematics at every waypoint and the parts that move with the joint.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub(crate) struct Prepared<'a> {
     pub problem: PlacementProblem<'a>,
     pub motion: &'a JointMotion,
@@ -76,6 +78,9 @@ pub(crate) struct Prepared<'a> {
     /// ([`ManipulationSettings::self_margin`] capped by the resting configuration's, see
     /// [`rest_self_margin`]).
     pub self_margin: f64,
+    /// Every scene part any check of this preparation found the robot within its margin of
+    /// (a rejected IK restart's included): what its results depend on.
+    met: Mutex<BTreeSet<PartId>>,
 }
 
 /// The self-clearance (m) the configurations of a manipulation keep: `wanted`, but at most
@@ -152,7 +157,30 @@ impl<'a> Prepared<'a> {
             lower,
             upper,
             self_margin,
+            met: Mutex::default(),
         })
+    }
+
+    /// Records that a check found the robot in the way of `body`, when it is a part.
+    pub(crate) fn note(&self, body: Body) {
+        if let Body::Part(part) = body {
+            self.met
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .insert(part);
+        }
+    }
+
+    /// The scene parts any check of this preparation so far found the robot within its
+    /// margin of, whatever became of the configuration (a later IK restart or candidate may
+    /// have got round it): with these parts (and the moving part's ancestors) at the same
+    /// values, every check gives the same answers, and so the deterministic planners on top
+    /// give the same result whatever the other joints do.
+    pub(crate) fn met_parts(&self) -> BTreeSet<PartId> {
+        self.met
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .clone()
     }
 
     /// The first obstacle of the robot at `(base, q)` with the scene in `data`: two links
@@ -183,6 +211,9 @@ impl<'a> Prepared<'a> {
             margin,
             self.self_margin,
         ) {
+            if let Obstacle::Scene { body, .. } = &o {
+                self.note(*body);
+            }
             return Ok(Some(o));
         }
         let part = self.motion.handle.part();
@@ -196,9 +227,10 @@ impl<'a> Prepared<'a> {
                 (link, Body::Part(part)),
             )));
         }
-        Ok(self
-            .base_obstacle(&poses, data, margin)
-            .map(|hit| Obstacle::scene(p.robot, p.model, hit)))
+        Ok(self.base_obstacle(&poses, data, margin).map(|hit| {
+            self.note(hit.1);
+            Obstacle::scene(p.robot, p.model, hit)
+        }))
     }
 
     /// The base links (a prefix of `poses` up to the last of

@@ -87,6 +87,7 @@ mod settings;
 mod symbolic;
 mod whole_body;
 
+use std::collections::BTreeSet;
 use std::time::{Duration, Instant};
 
 use nalgebra::DVector;
@@ -240,6 +241,20 @@ pub fn plan_manipulation(
     rotation: GraspRotation,
     settings: &ManipulationSettings,
 ) -> Result<ManipulationPlan, PlacementError> {
+    plan_manipulation_met(problem, motion, base, seed, rotation, settings).map(|(plan, _)| plan)
+}
+
+/// [`plan_manipulation`] and the scene parts any of its checks found the robot within its
+/// margin of (with those at the same values, the plan is the same whatever the other joints
+/// do).
+pub(crate) fn plan_manipulation_met(
+    problem: PlacementProblem<'_>,
+    motion: &JointMotion,
+    base: [f64; 3],
+    seed: &DVector<f64>,
+    rotation: GraspRotation,
+    settings: &ManipulationSettings,
+) -> Result<(ManipulationPlan, BTreeSet<PartId>), PlacementError> {
     settings.validate()?;
     if base.iter().any(|v| !v.is_finite()) {
         return Err(PlacementError::NonFinite { what: "base" });
@@ -247,7 +262,8 @@ pub fn plan_manipulation(
     check_seed(problem.robot, seed)?;
     let self_margin = rest_self_margin(&problem, settings.self_margin, seed)?;
     let prepared = Prepared::new(problem, motion, rotation, self_margin)?;
-    prepared.plan(base, seed, settings, Cutoff::None)
+    let plan = prepared.plan(base, seed, settings, Cutoff::None)?;
+    Ok((plan, prepared.met_parts()))
 }
 
 fn check_seed(robot: &RobotModel, seed: &DVector<f64>) -> Result<(), PlacementError> {
@@ -323,8 +339,7 @@ pub fn place_and_plan(
         }
         let motion = placement_motion_turned(problem, joint, handle, to, settings, angle)?;
         let outcome = place_motion(problem, motion, robot_from, settings, data, termination)?;
-        let mut parts: std::collections::BTreeSet<PartId> =
-            best.obstacle_parts.iter().copied().collect();
+        let mut parts: BTreeSet<PartId> = best.obstacle_parts.iter().copied().collect();
         parts.extend(outcome.obstacle_parts.iter().copied());
         let samples = best.stats.samples + outcome.stats.samples;
         if score(&outcome) > score(&best) {
@@ -395,7 +410,11 @@ fn place_motion(
             reached: vec![false; n],
             reached_fraction: 0.0,
             failures: vec![None; n],
-            obstacle_parts: sampled.obstacles.into_iter().collect(),
+            obstacle_parts: sampled
+                .obstacles
+                .union(&prepared.met_parts())
+                .copied()
+                .collect(),
             motion,
             method: PlacementMethod::Sampled,
             requested: settings.method,
@@ -438,6 +457,7 @@ fn place_motion(
         stats.ipopt_status = Some(result.status);
         reason = join(reason, rejection);
     }
+    obstacles.extend(prepared.met_parts());
     let n = plan.reached.len();
     Ok(PlacementOutcome {
         base: plan.base,

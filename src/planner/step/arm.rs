@@ -90,7 +90,7 @@ impl StepRefinement<'_, '_> {
                 ctx.termination,
             )?,
         };
-        let path = match path_or_reason(outcome, which) {
+        let path = match path_or_reason(outcome, which, (from, to), &|q| arm.describe(q)) {
             Ok(p) => p,
             Err(reason) => {
                 let check = if ctx.termination.should_stop() {

@@ -87,7 +87,7 @@ use nalgebra::DVector;
 use super::{PlannerError, PlannerSettings};
 use crate::kinematics::ik::IkSolver;
 use crate::kinematics::robot::{RobotCollision, RobotConfig, RobotModel, RobotSpheres, SpeedBound};
-use crate::motion::paths::PathOutcome;
+use crate::motion::paths::{PathFailure, PathOutcome};
 use crate::motion::placement::PlacementData;
 use crate::motion::timing::TimedPath;
 use crate::scene::{JointId, PartId, SceneData, SceneModel, State, forward_kinematics};
@@ -441,9 +441,30 @@ fn same_pose(a: &[f64; 3], b: &[f64; 3]) -> bool {
 }
 
 /// The path of a path query, or why it returned none.
-fn path_or_reason(outcome: PathOutcome, path: StepPath) -> Result<Vec<Vec<f64>>, Box<StepReason>> {
+fn path_or_reason(
+    outcome: PathOutcome,
+    path: StepPath,
+    (from, to): (&[f64], &[f64]),
+    contact: &dyn Fn(&[f64]) -> Contact,
+) -> Result<Vec<Vec<f64>>, Box<StepReason>> {
     Err(Box::new(match outcome {
         PathOutcome::Solved(p) => return Ok(p),
+        PathOutcome::Infeasible(
+            failure @ (PathFailure::InvalidStart | PathFailure::InvalidGoal),
+        ) => {
+            let goal = failure == PathFailure::InvalidGoal;
+            let at = if goal { to } else { from };
+            match contact(at) {
+                // The goal out of the planner's bounds rather than touching anything.
+                Contact::Unnamed => StepReason::NoPath { path, failure },
+                contact => StepReason::BlockedEnd {
+                    path,
+                    goal,
+                    at: at.to_vec(),
+                    contact,
+                },
+            }
+        }
         PathOutcome::Infeasible(failure) => StepReason::NoPath { path, failure },
         PathOutcome::Timeout(()) => StepReason::PathStopped {
             path,

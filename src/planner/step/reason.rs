@@ -227,6 +227,26 @@ pub enum StepReason {
         /// Why.
         failure: PathFailure,
     },
+    /// The path's own start or goal configuration touches something, so no path can join
+    /// them: what it touches.
+    BlockedEnd {
+        /// Which path.
+        path: StepPath,
+        /// The goal end (else the start).
+        goal: bool,
+        /// The configuration (a base pose x, y, yaw; or an arm configuration).
+        at: Vec<f64>,
+        /// What it touches.
+        contact: Contact,
+    },
+    /// The robot, its arm stowed again at the step's last base pose in the state after the
+    /// step, does not keep the base paths' margin: the next base path could not start there.
+    EndNotClear {
+        /// The last base pose: x (m), y (m), yaw (rad).
+        at: [f64; 3],
+        /// What the stowed robot touches.
+        contact: Contact,
+    },
     /// The path planner's budget ran out (or the planner was cancelled) before a path.
     PathStopped {
         /// Which path.
@@ -288,6 +308,25 @@ impl fmt::Display for StepReason {
             ),
             StepReason::NoSegment { whole, split } => write!(f, "{whole}; segmenting: {split}"),
             StepReason::NoPath { path, failure } => write!(f, "no {path} path: {failure}"),
+            StepReason::EndNotClear { at, contact } => write!(
+                f,
+                "with the arm stowed at the last base pose ({:.3}, {:.3}, {:.3}) after the \
+                 step, {contact}: no base path could leave it",
+                at[0], at[1], at[2]
+            ),
+            StepReason::BlockedEnd {
+                path,
+                goal,
+                at,
+                contact,
+            } => {
+                let end = if *goal { "goal" } else { "start" };
+                write!(f, "no {path} path: its {end}")?;
+                if *path == StepPath::Base && at.len() == 3 {
+                    write!(f, " ({:.3}, {:.3}, {:.3})", at[0], at[1], at[2])?;
+                }
+                write!(f, " touches: {contact}")
+            }
             StepReason::PathStopped {
                 path,
                 cancelled: false,
@@ -361,6 +400,28 @@ mod tests {
             format!("dense re-check: segment 4 of the base at (1.000, -2.500, 0.125): {touch}")
         );
         assert!(touch.to_string().contains("\"wrist\"") && touch.to_string().contains("20 mm"));
+        // A path whose own end touches something names it, with the base pose.
+        let blocked = StepReason::BlockedEnd {
+            path: StepPath::Base,
+            goal: false,
+            at: vec![1.0, -2.5, 0.125],
+            contact: touch.clone(),
+        };
+        assert_eq!(
+            blocked.to_string(),
+            format!("no base path: its start (1.000, -2.500, 0.125) touches: {touch}")
+        );
+        let end = StepReason::EndNotClear {
+            at: [1.0, -2.5, 0.125],
+            contact: touch.clone(),
+        };
+        assert_eq!(
+            end.to_string(),
+            format!(
+                "with the arm stowed at the last base pose (1.000, -2.500, 0.125) after the \
+                 step, {touch}: no base path could leave it"
+            )
+        );
         let manip = StepReason::Collision {
             path: StepPath::Manipulation,
             segment: 2,

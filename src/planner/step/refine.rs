@@ -1,6 +1,8 @@
 //! Refining one segment of a step, phase by phase: the placement and the base path here, the
 //! arm's phases in `arm.rs`, the timing in `timing.rs`; which segments, in `segment.rs`.
 
+use std::collections::BTreeSet;
+
 use nalgebra::DVector;
 
 use super::certify::Stretch;
@@ -159,6 +161,55 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
         })
     }
 
+    /// `failed` (an arm phase's failure at the base poses of `placed`) with the parts in the
+    /// robot's reach there as its causes ([`Self::near_parts`]), added to any it has: no
+    /// configuration of the robot at those base poses comes near another part, so the phase
+    /// fails the same way whatever the other joints do (a farther part that comes nearer
+    /// only adds an obstacle).
+    fn near_causes(&self, failed: Failed, placed: &Placed) -> Result<Failed, PlannerError> {
+        let (failure, causes) = failed;
+        let bases: Vec<[f64; 3]> = match &placed.bases {
+            Some(bases) => bases.clone(),
+            None => vec![placed.base],
+        };
+        let mut near = self.near_parts(&bases)?;
+        near.extend(causes.unwrap_or_default());
+        Ok((failure, Some(near.into_iter().collect())))
+    }
+
+    /// The scene parts in the robot's reach from any of `bases`, at the step's start or end
+    /// state: those with a shape whose bounding box comes within the robot's horizontal
+    /// extent (the largest [`SpeedBound::link_radius`](crate::kinematics::robot::SpeedBound),
+    /// over every arm configuration) plus the planner's margin of a base position.
+    pub(super) fn near_parts(&self, bases: &[[f64; 3]]) -> Result<BTreeSet<PartId>, PlannerError> {
+        let ctx = self.ctx;
+        let reach = (0..ctx.robot.links().len())
+            .map(|l| ctx.speeds.link_radius(l))
+            .fold(0.0, f64::max)
+            + ctx.settings.margin;
+        let after = self.after()?;
+        let mut near = BTreeSet::new();
+        for data in [&self.data, &after] {
+            for (p, shapes) in ctx.model.geometry.parts.iter().enumerate() {
+                let Some(pose) = data.world_from_part(PartId(p)) else {
+                    continue;
+                };
+                let reached = shapes.iter().any(|s| {
+                    let b = s.enclosing_world_box(pose);
+                    bases.iter().any(|c| {
+                        let dx = (b.min.x - c[0]).max(c[0] - b.max.x).max(0.0);
+                        let dy = (b.min.y - c[1]).max(c[1] - b.max.y).max(0.0);
+                        dx.hypot(dy) <= reach
+                    })
+                });
+                if reached {
+                    near.insert(PartId(p));
+                }
+            }
+        }
+        Ok(near)
+    }
+
     /// A failure without known causes: every joint may matter.
     pub(super) fn fail(&self, check: Check, reason: StepReason) -> Failed {
         let failure = StepFailure {
@@ -215,13 +266,19 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
         from: [f64; 3],
     ) -> Result<Result<StepMotion, Failed>, PlannerError> {
         let base = placed.base;
+        // The arm's failures depend only on the parts in its reach at the placement's base
+        // poses; the base path's on the whole map (unknown causes).
+        let near = |f: Failed| self.near_causes(f, placed);
+        if let Some(f) = self.end_not_clear(placed.end_base())? {
+            return Ok(Err(near(f)?));
+        }
         let base_path = match self.base_path(from, base)? {
             Ok(p) => p,
             Err(f) => return Ok(Err(f)),
         };
         let arm = match self.arm_paths(placed)? {
             Ok(a) => a,
-            Err(f) => return Ok(Err(f)),
+            Err(f) => return Ok(Err(near(f)?)),
         };
         let (base_timed, approach, (manipulation, manipulation_base), retreat) =
             self.time(handle, placed, &base_path, &arm)?;
@@ -229,12 +286,12 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
             return Ok(Err(f));
         }
         if let Some(f) = self.certify_arm(placed, &arm, &approach, &retreat)? {
-            return Ok(Err(f));
+            return Ok(Err(near(f)?));
         }
         if let Some(f) =
             self.certify_manipulation(placed, &manipulation, manipulation_base.as_ref())?
         {
-            return Ok(Err(f));
+            return Ok(Err(near(f)?));
         }
         let timing = StepTiming {
             base: base_timed.duration,
@@ -430,6 +487,32 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
         ))
     }
 
+    /// The failure when the robot, its arm stowed at `end` (the step's last base pose) in the
+    /// state after the step, is within the base paths' margin of the scene: the next base path
+    /// starts there.
+    fn end_not_clear(&self, end: [f64; 3]) -> Result<Option<Failed>, PlannerError> {
+        let ctx = self.ctx;
+        let after = self.after()?;
+        let poses = ctx.robot.link_poses(&RobotConfig {
+            base: end,
+            arm: ctx.stow.clone(),
+        })?;
+        let hit = ctx.collision.scene_collision(
+            &poses,
+            ctx.model,
+            &after,
+            Exempt::Nothing,
+            ctx.settings.margin,
+        );
+        Ok(hit.map(|hit| {
+            let contact = Contact::Touches {
+                obstacle: Obstacle::scene(ctx.robot, ctx.model, hit),
+                margin: ctx.settings.margin,
+            };
+            self.fail(Check::Retreat, StepReason::EndNotClear { at: end, contact })
+        }))
+    }
+
     /// [`Self::base_hit`] as a named contact.
     pub(super) fn base_contact(&self, b: &[f64; 3]) -> Contact {
         match self.base_hit(b) {
@@ -530,14 +613,20 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
             &settings,
             ctx.termination,
         )?;
-        Ok(path_or_reason(outcome, StepPath::Base).map_err(|reason| {
-            let check = if ctx.termination.should_stop() {
-                Check::Stopped
-            } else {
-                Check::BasePath
-            };
-            self.fail(check, *reason)
-        }))
+        let contact = |b: &[f64]| match b {
+            &[x, y, yaw] => self.base_contact(&[x, y, yaw]),
+            _ => Contact::NoPose,
+        };
+        Ok(
+            path_or_reason(outcome, StepPath::Base, (&from, &to), &contact).map_err(|reason| {
+                let check = if ctx.termination.should_stop() {
+                    Check::Stopped
+                } else {
+                    Check::BasePath
+                };
+                self.fail(check, *reason)
+            }),
+        )
     }
 
     /// The first base pose along `path` (straight segments, yaw not wrapped) where the robot

@@ -13,7 +13,7 @@ use super::{
 use crate::kinematics::robot::RobotConfig;
 use crate::motion::placement::{
     PlacementMethod, PlacementObjective, PlacementOutcome, placement_motion_turned,
-    plan_manipulation,
+    plan_manipulation_met,
 };
 use crate::planner::PlannerError;
 use crate::scene::{HandleId, JointId, PartId, State};
@@ -97,7 +97,16 @@ impl Segments<'_, '_> {
             }
             let motion = match r.execute(handle_name, &placed, base)? {
                 Ok(m) => m,
-                Err(f) => return Ok(Err(f)),
+                // Known causes: also the placements' (which chose this base pose).
+                Err((f, causes)) => {
+                    let causes = causes.map(|mut c| {
+                        c.extend(self.causes.iter().copied());
+                        c.sort_unstable();
+                        c.dedup();
+                        c
+                    });
+                    return Ok(Err((f, causes)));
+                }
             };
             base = motion.end_base();
             motions.push(motion);
@@ -257,7 +266,7 @@ impl Segments<'_, '_> {
                 settings,
                 motion.grasp_angle,
             )?;
-            let at_prefix = plan_manipulation(
+            let (at_prefix, met) = plan_manipulation_met(
                 s.problem(),
                 &seg_motion,
                 prefix.base,
@@ -265,7 +274,7 @@ impl Segments<'_, '_> {
                 settings.grasp,
                 &settings.manipulation,
             )?;
-            self.causes.extend(at_prefix.obstacle_parts());
+            self.causes.extend(met);
             // A base pose the base path cannot end at (the stowed arm in the way, which the
             // placement does not check) would only fail the segment later.
             if at_prefix.is_complete() && s.base_reachable(&at_prefix.base) {

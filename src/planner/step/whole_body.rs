@@ -3,6 +3,8 @@
 //! and the choice between the two by execution time (the rule is in the
 //! [planner's docs](crate::planner#whole-body-manipulation)).
 
+use std::collections::BTreeSet;
+
 use super::refine::{Placed, StepRefinement};
 use super::segment::{Segments, longest_prefix};
 use super::{Check, Compared, Failed, StepMotion, StepReason, same_pose};
@@ -11,7 +13,7 @@ use crate::motion::placement::{
     WholeBodyStart, plan_whole_body_from_starts,
 };
 use crate::planner::PlannerError;
-use crate::scene::State;
+use crate::scene::{PartId, State};
 
 impl Placed {
     /// The configurations and base poses of the whole-body `plan` along `motion`; `Err` when
@@ -60,7 +62,7 @@ impl Segments<'_, '_> {
         handle_name: &str,
         state: &State,
         base: [f64; 3],
-    ) -> Result<Option<Result<StepMotion, String>>, PlannerError> {
+    ) -> Result<Option<Result<StepMotion, WholeBodyMiss>>, PlannerError> {
         let ctx = self.ctx;
         let r = StepRefinement::new(
             ctx, self.index, self.step, self.step, None, self.joint, state,
@@ -78,9 +80,11 @@ impl Segments<'_, '_> {
         if starts.is_empty() {
             why.push("whole-body: the arm reaches the first waypoint from no start".to_owned());
         }
+        // What the attempts depend on beyond the placements' parts.
+        let mut met = BTreeSet::new();
         let mut tracked = None;
         for start in &starts {
-            match self.track(&r, &prefix.motion, start, settings)? {
+            match self.track(&r, &prefix.motion, start, settings, &mut met)? {
                 Ok(placed) => {
                     tracked = Some(placed);
                     break;
@@ -93,17 +97,29 @@ impl Segments<'_, '_> {
         }
         self.first_whole = Some(whole);
         self.first_prefix = Some(prefix);
+        let mut causes = self.causes.clone();
+        causes.extend(met);
         let Some(placed) = tracked else {
-            return Ok(Some(Err(why.join("; "))));
+            return Ok(Some(Err(WholeBodyMiss {
+                reason: why.join("; "),
+                causes: Some(causes),
+            })));
         };
         if !r.base_reachable(&placed.base) {
-            return Ok(Some(Err(
-                "its first base pose is not clear for the stowed robot".into(),
-            )));
+            return Ok(Some(Err(WholeBodyMiss {
+                reason: "its first base pose is not clear for the stowed robot".into(),
+                causes: None,
+            })));
         }
         Ok(Some(match r.execute(handle_name, &placed, base)? {
             Ok(motion) => Ok(motion),
-            Err((f, _)) => Err(format!("{} failed: {}", f.check, f.reason)),
+            Err((f, more)) => Err(WholeBodyMiss {
+                reason: format!("{} failed: {}", f.check, f.reason),
+                causes: more.map(|more| {
+                    causes.extend(more);
+                    causes
+                }),
+            }),
         }))
     }
 
@@ -116,6 +132,7 @@ impl Segments<'_, '_> {
         motion: &JointMotion,
         start: &WholeBodyStart,
         settings: &WholeBodySettings,
+        met: &mut BTreeSet<PartId>,
     ) -> Result<Result<Placed, String>, PlannerError> {
         let placement = &self.ctx.settings.placement;
         let attempts = plan_whole_body_from_starts(
@@ -129,6 +146,7 @@ impl Segments<'_, '_> {
         )?;
         let mut why = Vec::new();
         for attempt in &attempts {
+            met.extend(attempt.outcome.obstacles());
             if let WholeBodyOutcome::Tracked(plan) = &attempt.outcome {
                 let b = attempt.base;
                 return Ok(Placed::whole_body(plan, motion).map_err(|e| {
@@ -173,15 +191,24 @@ fn starts(
     out
 }
 
+/// Why the whole-body alternative did not refine a step.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct WholeBodyMiss {
+    /// The attempts' failures, or the one of the motion around the tracked plan.
+    pub(super) reason: String,
+    /// The parts whose values the miss depends on (the placements' and the attempts'
+    /// obstacles); `None` when unknown (every joint may matter).
+    pub(super) causes: Option<BTreeSet<PartId>>,
+}
+
 /// The step's motion from the segmented refinement `segmented` and the whole-body attempt
 /// `whole_body` (`None`: not made): the one that refined, or with both the one with the
 /// shorter execution time (the segments on a tie), the two times recorded on every entry.
-/// When neither refined, the segmented failure, its reason joined with the whole-body one
-/// (and, since the whole-body plan depends on every part, without known causes); a stopped
-/// refinement stays stopped.
+/// When neither refined, the segmented failure, its reason joined with the whole-body one,
+/// and the causes of both (unknown when either's are); a stopped refinement stays stopped.
 pub(super) fn choose(
     segmented: Result<Vec<StepMotion>, Failed>,
-    whole_body: Option<Result<StepMotion, String>>,
+    whole_body: Option<Result<StepMotion, WholeBodyMiss>>,
 ) -> Result<Vec<StepMotion>, Box<Failed>> {
     match (segmented, whole_body) {
         (segmented, None) => segmented.map_err(Box::new),
@@ -203,12 +230,18 @@ pub(super) fn choose(
             Ok(chosen)
         }
         (Err(failed), Some(Err(_))) if failed.0.check == Check::Stopped => Err(Box::new(failed)),
-        (Err((mut failure, _)), Some(Err(why))) => {
+        (Err((mut failure, causes)), Some(Err(miss))) => {
             failure.reason = StepReason::WholeBodyMissed {
-                whole_body: why,
+                whole_body: miss.reason,
                 fixed: Box::new(failure.reason),
             };
-            Err(Box::new((failure, None)))
+            let causes = causes.zip(miss.causes).map(|(mut parts, more)| {
+                parts.extend(more);
+                parts.sort_unstable();
+                parts.dedup();
+                parts
+            });
+            Err(Box::new((failure, causes)))
         }
     }
 }
@@ -296,19 +329,44 @@ mod tests {
             Some(Ok(motion(StepMode::WholeBody, 8.0, 0.0, 1.5))),
         );
         assert!(only.unwrap()[0].compared.is_none());
-        let only = choose(Ok(segments()), Some(Err("no".into()))).unwrap();
+        let only = choose(Ok(segments()), Some(Err(miss("no", None)))).unwrap();
         assert!(only.len() == 2 && only[0].compared.is_none());
     }
 
+    fn miss(reason: &str, causes: Option<&[usize]>) -> WholeBodyMiss {
+        WholeBodyMiss {
+            reason: reason.into(),
+            causes: causes.map(|c| c.iter().map(|&i| PartId(i)).collect()),
+        }
+    }
+
     #[test]
-    fn when_neither_refines_both_reasons_are_kept_and_the_causes_dropped() {
-        let (failure, causes) = *choose(Err(failed()), Some(Err("waypoint 9".into()))).unwrap_err();
-        assert!(causes.is_none());
+    fn when_neither_refines_both_reasons_and_causes_are_kept() {
+        let failed_at = |parts: &[usize]| {
+            let (failure, _) = failed();
+            (failure, Some(parts.iter().map(|&i| PartId(i)).collect()))
+        };
+        let (failure, causes) = *choose(
+            Err(failed_at(&[3, 1])),
+            Some(Err(miss("waypoint 9", Some(&[2, 3])))),
+        )
+        .unwrap_err();
         assert_eq!(failure.check, Check::Placement);
         assert_eq!(
             failure.reason.to_string(),
             "placement; with the base moving: waypoint 9"
         );
+        // The union, sorted without repeats.
+        let ids =
+            |c: Option<Vec<PartId>>| c.map(|c| c.iter().map(|p| p.index()).collect::<Vec<_>>());
+        assert_eq!(ids(causes), Some(vec![1, 2, 3]));
+        // Unknown on either side: unknown.
+        let (_, causes) = *choose(Err(failed_at(&[1])), Some(Err(miss("no", None)))).unwrap_err();
+        assert!(causes.is_none());
+        let (failure, _) = failed();
+        let (_, causes) =
+            *choose(Err((failure, None)), Some(Err(miss("no", Some(&[]))))).unwrap_err();
+        assert!(causes.is_none());
         // Without a whole-body attempt, the segmented failure as it is.
         let (_, causes) = *choose(Err(failed()), None).unwrap_err();
         assert!(causes.is_some());

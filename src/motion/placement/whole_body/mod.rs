@@ -77,7 +77,7 @@ use super::{
 };
 use crate::InvalidSetting;
 use crate::kinematics::ik::IkData;
-use crate::scene::SceneData;
+use crate::scene::{PartId, SceneData};
 use model::WholeBodyIk;
 use run::{Origin, Run};
 
@@ -251,6 +251,11 @@ pub enum WholeBodyOutcome {
         failure: WholeBodyFailure,
         /// The waypoints before it, as reached before backtracking.
         reached: WholeBodyPlan,
+        /// The scene parts any check of the attempt found the robot within the margin of
+        /// (rejected candidates' included), sorted: with these parts (and the moving part's
+        /// ancestors) at the same values the attempt fails the same way whatever the other
+        /// joints do.
+        obstacles: Vec<PartId>,
     },
 }
 
@@ -260,6 +265,15 @@ impl WholeBodyOutcome {
         match self {
             WholeBodyOutcome::Tracked(plan) => Some(plan),
             WholeBodyOutcome::Failed { .. } => None,
+        }
+    }
+
+    /// The scene parts the failed attempt depends on (see [`WholeBodyOutcome::Failed`]);
+    /// none when tracked.
+    pub fn obstacles(&self) -> &[PartId] {
+        match self {
+            WholeBodyOutcome::Tracked(_) => &[],
+            WholeBodyOutcome::Failed { obstacles, .. } => obstacles,
         }
     }
 
@@ -366,6 +380,7 @@ pub fn plan_whole_body(
                         waypoint,
                         failure,
                         reached: kept,
+                        obstacles: prepared.met_parts().into_iter().collect(),
                     });
                 }
                 k = at - back;
