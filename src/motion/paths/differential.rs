@@ -44,7 +44,10 @@ impl std::fmt::Display for DifferentialFailure {
 /// all pass `valid_motion(from, to)` is taken. When none on the last segment does (turning
 /// in place at the goal may collide), the base arrives straight in instead: to a point
 /// [`STRAIGHT_IN`] behind or in front of the goal along its yaw, turning there, then straight
-/// to the goal. `valid_motion` receives one piece at a time, a
+/// to the goal. When none on the first segment that moves does (turning in place at the start
+/// may collide: the base stands close to what it just handled), the base leaves straight out
+/// first: [`STRAIGHT_OUT`] backward or forward along the start's yaw, then on as above.
+/// `valid_motion` receives one piece at a time, a
 /// pure turn or a pure drive (turns of more than π included, the yaw unwrapped), and must
 /// check the robot along the whole piece (e.g. densely with
 /// [`first_invalid`](super::first_invalid)); zero-length pieces are not handed to it and not
@@ -126,6 +129,12 @@ pub fn differential_drive(
             }
             (chosen, _) => chosen,
         };
+        // Turning in place at the start may be what collides (the base was left close to
+        // what it just handled): leave straight along its yaw first.
+        let chosen = match chosen {
+            None if out.len() == 1 => straight_out(at, next, final_yaw, valid_motion, &mut tried),
+            chosen => chosen,
+        };
         let Some(pieces) = chosen else {
             return Err(DifferentialFailure {
                 segment: k,
@@ -163,6 +172,59 @@ pub fn differential_drive(
         }
     }
     Ok(out)
+}
+
+/// How far (m) a straight-out departure drives along the start's yaw before it turns, nearest
+/// first.
+pub const STRAIGHT_OUT: [f64; 2] = [0.3, 0.6];
+
+/// A straight-out departure from `at` towards `next` (the first segment that moves): drive
+/// [`STRAIGHT_OUT`] backward (then forward) along the start's yaw, with no turn at the start,
+/// then follow the segment from there as any segment (turn, drive, and on the last segment
+/// the final turn to `final_yaw`, or a straight-in arrival). The first whose pieces all pass
+/// `valid_motion`; `tried` counts the options.
+fn straight_out(
+    at: [f64; 3],
+    next: &[f64],
+    final_yaw: Option<f64>,
+    valid_motion: &dyn Fn(&[f64], &[f64]) -> bool,
+    tried: &mut usize,
+) -> Option<Vec<Vec<f64>>> {
+    let to = [next[0], next[1]];
+    for out in STRAIGHT_OUT {
+        for sign in [-1.0, 1.0] {
+            let via = [
+                at[0] + sign * out * at[2].cos(),
+                at[1] + sign * out * at[2].sin(),
+                at[2],
+            ];
+            *tried += 1;
+            if !valid_motion(&at, &via) {
+                continue;
+            }
+            let (dx, dy) = (to[0] - via[0], to[1] - via[1]);
+            let rest = if dx.hypot(dy) <= SAME_POSITION {
+                None
+            } else {
+                options(via[2], dy.atan2(dx), final_yaw)
+                    .into_iter()
+                    .map(|way| {
+                        *tried += 1;
+                        way.pieces(via, to, final_yaw)
+                    })
+                    .find(|pieces| pieces.windows(2).all(|w| valid_motion(&w[0], &w[1])))
+                    .or_else(|| {
+                        final_yaw.and_then(|goal| straight_in(via, to, goal, valid_motion, tried))
+                    })
+            };
+            if let Some(rest) = rest {
+                let mut pieces = vec![at.to_vec()];
+                pieces.extend(rest);
+                return Some(pieces);
+            }
+        }
+    }
+    None
 }
 
 /// How far back from the goal (m) along its yaw a straight-in arrival starts, nearest first.
@@ -300,6 +362,38 @@ mod tests {
         }
     }
 
+    /// No turn within 0.1 m of the start (a base left close to a cabinet whose corners sweep
+    /// into it when it turns): the base backs out 0.3 m along its yaw first, then turns there.
+    /// By hand, from (−0.3, 0) to (0, 1): direction atan2(1, 0.3) = 1.2793 rad; forward with
+    /// the short turns (1.2793 there, −1.2793 at the goal) is the least turned.
+    #[test]
+    fn a_base_that_cannot_turn_at_the_start_backs_out_first() {
+        let path = vec![vec![0.0, 0.0, 0.0], vec![0.0, 1.0, 0.0]];
+        let no_turn_at_start = |a: &[f64], b: &[f64]| !(a[2] != b[2] && a[0].hypot(a[1]) < 0.1);
+        let out = differential_drive(&path, &no_turn_at_start).unwrap();
+        no_sideways(&out);
+        let d = 1.0f64.atan2(0.3);
+        let expected = [
+            [0.0, 0.0, 0.0],
+            [-0.3, 0.0, 0.0],
+            [-0.3, 0.0, d],
+            [0.0, 1.0, d],
+            [0.0, 1.0, 0.0],
+        ];
+        assert_eq!(out.len(), expected.len(), "{out:?}");
+        for (got, want) in out.iter().zip(expected) {
+            assert!(
+                got.iter().zip(want).all(|(g, w)| (g - w).abs() < 1e-12),
+                "{got:?} against {want:?}"
+            );
+        }
+        // Where it cannot drive either, nothing: the failure counts every option.
+        let stuck = |a: &[f64], _: &[f64]| a[0].hypot(a[1]) >= 0.1;
+        let e = differential_drive(&path, &stuck).unwrap_err();
+        assert_eq!(e.segment, 0);
+        assert!(e.tried > 4, "{e}");
+    }
+
     #[test]
     fn a_segment_behind_is_driven_backward() {
         // Facing +x, the next position is 1 m behind: no turn, a backward drive.
@@ -355,6 +449,7 @@ mod tests {
             vec![2.0, 1.0, 0.0],
         ];
         let err = differential_drive(&moving, &|_, b| b[1] < 0.5).unwrap_err();
-        assert_eq!((err.segment, err.tried), (0, 4));
+        // The 4 options, then 4 straight-out departures (along x: valid), each with its 4.
+        assert_eq!((err.segment, err.tried), (0, 4 + 4 * (1 + 4)));
     }
 }
