@@ -1219,6 +1219,26 @@ fn an_srdf_exempts_the_colliders_of_merged_links_pair_by_pair() {
     let (a, b) = collision.closest_colliders(&at_head, 0, 2).unwrap();
     assert_eq!(robot.links()[0].source(a), Some("head"));
     assert_eq!(robot.links()[2].source(b), Some("l2"));
+    // A cube beside the head, by hand 0.1 m from the head ball's surface (the ball's centre
+    // (0, 0, 0.75), radius 0.1; the cube's near face at y = -0.2, z from 0.65) and
+    // √(0.1² + 0.1²) = 0.141 m from the torso box's edge (y = -0.1, z = 0.55): within a 0.15 m
+    // margin the base link touches it, the head's collider closest, named by its URDF link.
+    let cube = box_scene(
+        Isometry3::translation(0.0, -0.3, 0.75),
+        Vector3::new(0.1, 0.1, 0.1),
+        false,
+    );
+    let data = scene_data(&cube);
+    let (l, k, body) = collision
+        .scene_contact(&out, &cube, &data, Exempt::Nothing, 0.15)
+        .unwrap();
+    assert_eq!((l, robot.links()[l].source(k)), (0, Some("head")));
+    assert!(matches!(body, Body::Part(_)));
+    assert!(
+        collision
+            .scene_contact(&out, &cube, &data, Exempt::Nothing, 0.05)
+            .is_none()
+    );
     // Back through the robot's own SRDF: the same exemptions.
     let again = loaded
         .with_srdf(&Srdf::parse(&robot.to_srdf().to_xml().unwrap()).unwrap())

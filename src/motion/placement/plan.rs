@@ -64,8 +64,10 @@ impl Obstacle {
             ));
         }
         collision
-            .scene_collision(link_poses, model, data, exempt, margin)
-            .map(|hit| Obstacle::scene(robot, model, hit))
+            .scene_contact(link_poses, model, data, exempt, margin)
+            .map(|(link, collider, body)| {
+                Obstacle::scene_named(robot, model, (link, body), Some(collider))
+            })
     }
 
     /// Links `i` and `j` touching, named: each by its robot link name, followed by
@@ -96,15 +98,27 @@ impl Obstacle {
     }
 
     /// A robot link touching a scene body, named.
-    pub(crate) fn scene(
+    pub(crate) fn scene(robot: &RobotModel, model: &SceneModel, hit: (usize, Body)) -> Obstacle {
+        Obstacle::scene_named(robot, model, hit, None)
+    }
+
+    /// A robot link touching a scene body, named; with the link's touching `collider`, a
+    /// link that carries other URDF links is named `link/urdf_link` after the collider's.
+    pub(crate) fn scene_named(
         robot: &RobotModel,
         model: &SceneModel,
         (link, body): (usize, Body),
+        collider: Option<usize>,
     ) -> Obstacle {
+        let l = &robot.links()[link];
+        let link_name = match collider.and_then(|c| l.source(c)) {
+            Some(source) if source != l.name => format!("{}/{source}", l.name),
+            _ => l.name.clone(),
+        };
         Obstacle::Scene {
             link,
             body,
-            link_name: robot.links()[link].name.clone(),
+            link_name,
             body_name: BodyName::of(model, body),
         }
     }

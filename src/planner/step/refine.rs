@@ -469,16 +469,16 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
         matches!(self.base_hit(b), Ok(None))
     }
 
-    /// What the stowed robot at base pose `b` touches in the step's start state (`Err`: the
-    /// pose has no link poses).
-    fn base_hit(&self, b: &[f64; 3]) -> Result<Option<(usize, Body)>, ()> {
+    /// What the stowed robot at base pose `b` touches in the step's start state, `(link,
+    /// collider, body)` (`Err`: the pose has no link poses).
+    fn base_hit(&self, b: &[f64; 3]) -> Result<Option<(usize, usize, Body)>, ()> {
         let ctx = self.ctx;
         let cfg = RobotConfig {
             base: *b,
             arm: ctx.stow.clone(),
         };
         let poses = ctx.robot.link_poses(&cfg).map_err(|_| ())?;
-        Ok(ctx.collision.scene_collision(
+        Ok(ctx.collision.scene_contact(
             &poses,
             ctx.model,
             &self.data,
@@ -497,16 +497,18 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
             base: end,
             arm: ctx.stow.clone(),
         })?;
-        let hit = ctx.collision.scene_collision(
+        let hit = ctx.collision.scene_contact(
             &poses,
             ctx.model,
             &after,
             Exempt::Nothing,
             ctx.settings.margin,
         );
-        Ok(hit.map(|hit| {
+        Ok(hit.map(|(link, collider, body)| {
+            let obstacle =
+                Obstacle::scene_named(ctx.robot, ctx.model, (link, body), Some(collider));
             let contact = Contact::Touches {
-                obstacle: Obstacle::scene(ctx.robot, ctx.model, hit),
+                obstacle,
                 margin: ctx.settings.margin,
             };
             self.fail(Check::Retreat, StepReason::EndNotClear { at: end, contact })
@@ -516,8 +518,13 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
     /// [`Self::base_hit`] as a named contact.
     pub(super) fn base_contact(&self, b: &[f64; 3]) -> Contact {
         match self.base_hit(b) {
-            Ok(Some(hit)) => Contact::Touches {
-                obstacle: Obstacle::scene(self.ctx.robot, self.ctx.model, hit),
+            Ok(Some((link, collider, body))) => Contact::Touches {
+                obstacle: Obstacle::scene_named(
+                    self.ctx.robot,
+                    self.ctx.model,
+                    (link, body),
+                    Some(collider),
+                ),
                 margin: self.ctx.settings.margin,
             },
             Ok(None) => Contact::Unnamed,

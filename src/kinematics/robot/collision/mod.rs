@@ -319,6 +319,21 @@ impl RobotCollision {
         exempt: Exempt<'_>,
         margin: f64,
     ) -> Option<(usize, Body)> {
+        self.scene_contact(link_poses, model, data, exempt, margin)
+            .map(|(l, _, body)| (l, body))
+    }
+
+    /// [`RobotCollision::scene_collision`] with the link's collider that comes closest to
+    /// the body: `(link, collider, body)` (to name the URDF link of a collider merged into a
+    /// robot link, [`RobotLink::source`](super::RobotLink::source)).
+    pub fn scene_contact(
+        &self,
+        link_poses: &[Isometry3<f64>],
+        model: &SceneModel,
+        data: &SceneData,
+        exempt: Exempt<'_>,
+        margin: f64,
+    ) -> Option<(usize, usize, Body)> {
         let (ignore, grasped) = exempt.split();
         let margin = if margin > 0.0 { margin } else { 0.0 };
         let links = self.shapes.len().min(link_poses.len());
@@ -353,7 +368,7 @@ impl RobotCollision {
         }
         for (l, link) in placed.iter().enumerate() {
             let base_link = self.base_links.contains(&l);
-            let mut best: Option<(f64, Body)> = None;
+            let mut best: Option<(f64, usize, Body)> = None;
             for (k, (robot_shape, robot_box)) in link.iter().enumerate() {
                 let contact = self.contact[l].get(k).copied().unwrap_or(false);
                 for (body, scene_shape, scene_box) in &candidates {
@@ -369,13 +384,13 @@ impl RobotCollision {
                         continue;
                     }
                     let d = robot_shape.distance_within(scene_shape, margin);
-                    if d <= margin && best.is_none_or(|(b, _)| d < b) {
-                        best = Some((d, *body));
+                    if d <= margin && best.is_none_or(|(b, _, _)| d < b) {
+                        best = Some((d, k, *body));
                     }
                 }
             }
-            if let Some((_, body)) = best {
-                return Some((l, body));
+            if let Some((_, k, body)) = best {
+                return Some((l, k, body));
             }
         }
         None
