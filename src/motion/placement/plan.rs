@@ -83,13 +83,7 @@ impl Obstacle {
         let closest = (merged(i) || merged(j))
             .then(|| collision.closest_colliders(link_poses, i, j))
             .flatten();
-        let name = |l: usize, c: Option<usize>| {
-            let link = &robot.links()[l];
-            match c.and_then(|c| link.source(c)) {
-                Some(source) if source != link.name => format!("{}/{source}", link.name),
-                _ => link.name.clone(),
-            }
-        };
+        let name = |l: usize, c: Option<usize>| robot.links()[l].contact_name(c);
         Obstacle::SelfCollision(
             i,
             j,
@@ -110,15 +104,10 @@ impl Obstacle {
         (link, body): (usize, Body),
         collider: Option<usize>,
     ) -> Obstacle {
-        let l = &robot.links()[link];
-        let link_name = match collider.and_then(|c| l.source(c)) {
-            Some(source) if source != l.name => format!("{}/{source}", l.name),
-            _ => l.name.clone(),
-        };
         Obstacle::Scene {
             link,
             body,
-            link_name,
+            link_name: robot.links()[link].contact_name(collider),
             body_name: BodyName::of(model, body),
         }
     }

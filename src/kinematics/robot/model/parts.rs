@@ -171,6 +171,15 @@ impl RobotLink {
         self.merged.get(m).map(String::as_str)
     }
 
+    /// The link's name for a contact of `collider`: its own, or `link/urdf_link` when the
+    /// collider comes from another URDF link merged into it (`base_footprint/head_2_link`).
+    pub fn contact_name(&self, collider: Option<usize>) -> String {
+        match collider.and_then(|c| self.source(c)) {
+            Some(source) if source != self.name => format!("{}/{source}", self.name),
+            _ => self.name.clone(),
+        }
+    }
+
     /// The link's colliders with their contact flags.
     pub fn colliders_with_contact(&self) -> impl Iterator<Item = (&Collider, bool)> {
         self.colliders
