@@ -13,16 +13,21 @@
 //!    configuration (see [`StepMotion`]). A step that no single base pose covers is executed
 //!    in segments, letting go and grasping again from another base pose in between (at most
 //!    [`PlannerSettings::max_segments`]; see [`StepMotion`] and [`MotionPlan::segments`]).
-//! 3. When a step cannot be refined, its move is **vetoed in that state** — the task search is
-//!    given a [`Refiner`](crate::task::Refiner) that answers from the table of vetoes, with the
-//!    blockers unknown, so every joint may move to work around it — and the search runs again.
-//!    It returns a different order (possibly with extra moves, such as closing a door the arm
-//!    hits), or proves that none is left.
+//! 3. When a step cannot be refined, its move is **vetoed** — the task search is given a
+//!    [`Refiner`](crate::task::Refiner) that answers from the table of vetoes — in every state
+//!    that agrees with this one on the joints the failure depends on: the moved part's
+//!    ancestors and the parts its checks met (any placement's and whole-body attempt's, a
+//!    rejected IK restart's included), and for a failed arm phase also every part within the
+//!    robot's reach of its base poses; a failed base path depends on the whole map (every
+//!    joint). The search runs again and returns a different order (possibly with extra moves,
+//!    such as closing a door the arm hits), or proves that none is left.
 //!
-//! Each round adds one (state, move) to the table, and the lattice is finite, so the loop ends;
-//! a veto depends only on the state and the move, which keeps the task search's completeness over
-//! the moves that refine (the verdicts of the motion layer themselves are those of sampling-based
-//! planners with a budget: a failure there means "not found", not "impossible").
+//! Each round adds one rule to the table, and the lattice is finite, so the loop ends. A veto
+//! carried to another state rests on monotonicity: the parts the failed checks never met can
+//! only add obstacles where they stand elsewhere, so the same seeded search fails again (the
+//! verdicts of the motion layer are those of sampling-based planners with a budget: a failure
+//! there means "not found", not "impossible", and a changed scene may change which states a
+//! search draws).
 //!
 //! # Segments
 //! When no base pose covers a step's whole handle trajectory, the robot regrasps: the step's

@@ -98,13 +98,19 @@ pub enum Error {
     },
 }
 
-/// "a and b; c and d" for the message of [`Error::StartInCollision`].
+/// "a and b; c and d" for the message of [`Error::StartInCollision`], with the usual cause
+/// when some pair touches: a closed part modelled flush against its frame.
 fn list_pairs(pairs: &[super::CollidingPair]) -> String {
     let shown: Vec<String> = pairs.iter().take(8).map(ToString::to_string).collect();
     let more = pairs.len().saturating_sub(shown.len());
-    if more > 0 {
+    let mut text = if more > 0 {
         format!("{} and {more} more pairs", shown.join("; "))
     } else {
         shown.join("; ")
+    };
+    if pairs.iter().any(|p| p.distance <= 0.0) {
+        text += " (touching counts: leave a few millimetres between a closed part and its \
+                 frame or its neighbour, or allow the pair)";
     }
+    text
 }

@@ -29,7 +29,7 @@ impl std::fmt::Display for CollidingPair {
                 self.a, self.b, self.distance
             )
         } else {
-            write!(f, "{} and {} (overlapping)", self.a, self.b)
+            write!(f, "{} and {} (touching or overlapping)", self.a, self.b)
         }
     }
 }

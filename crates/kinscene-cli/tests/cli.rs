@@ -951,7 +951,9 @@ fn plan_refuses_a_start_state_in_collision_at_once() {
     assert!(
         line.contains("start state is in collision")
             && line.contains("\"drawer\"")
-            && line.contains("\"counter\""),
+            && line.contains("\"counter\"")
+            && line.contains("touching or overlapping")
+            && line.contains("leave a few millimetres"),
         "{line}"
     );
 }

@@ -54,7 +54,9 @@ use std::time::Duration;
 
 use crate::InvalidSetting;
 
-pub use differential::{DifferentialFailure, SAME_POSITION, STRAIGHT_IN, differential_drive};
+pub use differential::{
+    DifferentialFailure, SAME_POSITION, STRAIGHT_IN, STRAIGHT_OUT, differential_drive,
+};
 pub use error::PathError;
 pub use kinscene_ompl::{Planner, Simplifier};
 pub use plan::{
