@@ -215,9 +215,6 @@ impl HierarchicalPlanner {
                 + tilt * arm.wrist_out[1].abs().hypot(arm.wrist_radius);
             settings.task.manipulation.arm = Some(arm);
         }
-        // The stowed robot at a placement's base pose is where base paths end and start.
-        let base_margin = &mut settings.placement.sampling.base_margin;
-        *base_margin = base_margin.max(settings.margin);
         if settings.placement.stow.is_none() {
             // Base poses from which the arm cannot be stowed at the step's start or end are
             // not drawn: the arm comes from the stow and goes back to it.

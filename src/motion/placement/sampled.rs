@@ -129,15 +129,8 @@ pub(crate) fn sample(
         if grid.cell_of(Point2::new(base[0], base[1])).is_none() {
             return Ok(false);
         }
-        // The robot stands here stowed before and after the motion, where base paths end
-        // and start: it keeps the base's margin.
         let stowed = match stow {
-            Some(q) => stow_collides(
-                prepared,
-                base,
-                q,
-                sampling.base_margin.max(manipulation.margin),
-            )?,
+            Some(q) => stow_collides(prepared, base, q, manipulation.margin)?,
             None => None,
         };
         if let Some(body) = base_collides(prepared, base, seed, sampling.base_margin)?.or(stowed) {

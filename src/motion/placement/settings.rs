@@ -161,10 +161,8 @@ pub struct SamplingSettings {
     pub bearing_spread: f64,
     /// Half-width (rad) of the uniform yaw jitter, in `[0, π]`. Default 0.6.
     pub yaw_jitter: f64,
-    /// Clearance (m) the base links must keep from the scene at every waypoint, and the whole
-    /// robot stowed (with [`PlacementSettings::stow`]) at the motion's start and end states,
-    /// for a sample to be evaluated at all, >= 0. Default 0.02. The hierarchical planner
-    /// raises it to its base paths' margin.
+    /// Clearance (m) the base links (and the stowed arm) must keep from the scene at the
+    /// current state for a sample to be evaluated at all, >= 0. Default 0.02.
     pub base_margin: f64,
     /// How samples that reach as many waypoints are ranked. Default
     /// [`TieBreak::ExecutionTime`].
@@ -277,10 +275,9 @@ pub struct PlacementSettings {
     pub approach_steps: usize,
     /// The arm configuration the robot arrives with and leaves with (its stow). With it, a
     /// base pose is drawn only if the whole robot in this configuration keeps
-    /// [`SamplingSettings::base_margin`] (at least [`ManipulationSettings::margin`]) from the
-    /// scene at the motion's start and end states, where base paths end and start, so the
-    /// arm can go from the stow to the handle and back there; `None` (default): the base
-    /// links alone. The hierarchical planner sets its stow.
+    /// [`ManipulationSettings::margin`] from the scene at the motion's start and end states,
+    /// so the arm can go from the stow to the handle and back there; `None` (default): the
+    /// base links alone. The hierarchical planner sets its stow.
     pub stow: Option<DVector<f64>>,
     /// Turned grasps of bar handles: the largest angle (rad, in `[0, π/2]`) by which the
     /// approach may be turned about the handle's bar axis

@@ -239,14 +239,6 @@ pub enum StepReason {
         /// What it touches.
         contact: Contact,
     },
-    /// The robot, its arm stowed again at the step's last base pose in the state after the
-    /// step, does not keep the base paths' margin: the next base path could not start there.
-    EndNotClear {
-        /// The last base pose: x (m), y (m), yaw (rad).
-        at: [f64; 3],
-        /// What the stowed robot touches.
-        contact: Contact,
-    },
     /// The path planner's budget ran out (or the planner was cancelled) before a path.
     PathStopped {
         /// Which path.
@@ -308,12 +300,6 @@ impl fmt::Display for StepReason {
             ),
             StepReason::NoSegment { whole, split } => write!(f, "{whole}; segmenting: {split}"),
             StepReason::NoPath { path, failure } => write!(f, "no {path} path: {failure}"),
-            StepReason::EndNotClear { at, contact } => write!(
-                f,
-                "with the arm stowed at the last base pose ({:.3}, {:.3}, {:.3}) after the \
-                 step, {contact}: no base path could leave it",
-                at[0], at[1], at[2]
-            ),
             StepReason::BlockedEnd {
                 path,
                 goal,
@@ -410,17 +396,6 @@ mod tests {
         assert_eq!(
             blocked.to_string(),
             format!("no base path: its start (1.000, -2.500, 0.125) touches: {touch}")
-        );
-        let end = StepReason::EndNotClear {
-            at: [1.0, -2.5, 0.125],
-            contact: touch.clone(),
-        };
-        assert_eq!(
-            end.to_string(),
-            format!(
-                "with the arm stowed at the last base pose (1.000, -2.500, 0.125) after the \
-                 step, {touch}: no base path could leave it"
-            )
         );
         let manip = StepReason::Collision {
             path: StepPath::Manipulation,

@@ -107,6 +107,10 @@ impl Placed {
     }
 }
 
+/// How far (m) a base path may stay within the arm paths' margin of the scene after its
+/// start: the robot leaves where the previous step left it, which kept that margin.
+pub(super) const LEAVE: f64 = 0.3;
+
 /// The arm's paths of a step: stowed to the grasp, and the release back to stowed.
 pub(super) struct ArmPaths {
     pub(super) approach: Vec<Vec<f64>>,
@@ -269,9 +273,6 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
         // The arm's failures depend only on the parts in its reach at the placement's base
         // poses; the base path's on the whole map (unknown causes).
         let near = |f: Failed| self.near_causes(f, placed);
-        if let Some(f) = self.end_not_clear(placed.end_base())? {
-            return Ok(Err(near(f)?));
-        }
         let base_path = match self.base_path(from, base)? {
             Ok(p) => p,
             Err(f) => return Ok(Err(f)),
@@ -466,58 +467,40 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
     /// Whether the robot at base pose `b` with the arm stowed is clear of the scene at the
     /// step's start state.
     pub(super) fn base_valid(&self, b: &[f64; 3]) -> bool {
-        matches!(self.base_hit(b), Ok(None))
+        matches!(self.base_hit(b, self.ctx.settings.margin), Ok(None))
     }
 
-    /// What the stowed robot at base pose `b` touches in the step's start state, `(link,
-    /// collider, body)` (`Err`: the pose has no link poses).
-    fn base_hit(&self, b: &[f64; 3]) -> Result<Option<(usize, usize, Body)>, ()> {
+    /// [`Self::base_valid`] along a base path that starts at `start`: within [`LEAVE`] of the
+    /// start the stowed robot keeps the arm paths' (smaller) margin, the one the step it
+    /// stands after kept there (a drawer pulled towards the robot ends close to it); farther
+    /// out the base paths' margin.
+    pub(super) fn base_valid_from(&self, start: &[f64], b: &[f64; 3]) -> bool {
+        let leaving = (b[0] - start[0]).hypot(b[1] - start[1]) <= LEAVE;
+        let margin = if leaving {
+            self.arm_margin
+        } else {
+            self.ctx.settings.margin
+        };
+        matches!(self.base_hit(b, margin), Ok(None))
+    }
+
+    /// What the stowed robot at base pose `b` touches within `margin` in the step's start
+    /// state, `(link, collider, body)` (`Err`: the pose has no link poses).
+    fn base_hit(&self, b: &[f64; 3], margin: f64) -> Result<Option<(usize, usize, Body)>, ()> {
         let ctx = self.ctx;
         let cfg = RobotConfig {
             base: *b,
             arm: ctx.stow.clone(),
         };
         let poses = ctx.robot.link_poses(&cfg).map_err(|_| ())?;
-        Ok(ctx.collision.scene_contact(
-            &poses,
-            ctx.model,
-            &self.data,
-            Exempt::Nothing,
-            ctx.settings.margin,
-        ))
-    }
-
-    /// The failure when the robot, its arm stowed at `end` (the step's last base pose) in the
-    /// state after the step, is within the base paths' margin of the scene: the next base path
-    /// starts there.
-    fn end_not_clear(&self, end: [f64; 3]) -> Result<Option<Failed>, PlannerError> {
-        let ctx = self.ctx;
-        let after = self.after()?;
-        let poses = ctx.robot.link_poses(&RobotConfig {
-            base: end,
-            arm: ctx.stow.clone(),
-        })?;
-        let hit = ctx.collision.scene_contact(
-            &poses,
-            ctx.model,
-            &after,
-            Exempt::Nothing,
-            ctx.settings.margin,
-        );
-        Ok(hit.map(|(link, collider, body)| {
-            let obstacle =
-                Obstacle::scene_named(ctx.robot, ctx.model, (link, body), Some(collider));
-            let contact = Contact::Touches {
-                obstacle,
-                margin: ctx.settings.margin,
-            };
-            self.fail(Check::Retreat, StepReason::EndNotClear { at: end, contact })
-        }))
+        Ok(ctx
+            .collision
+            .scene_contact(&poses, ctx.model, &self.data, Exempt::Nothing, margin))
     }
 
     /// [`Self::base_hit`] as a named contact.
     pub(super) fn base_contact(&self, b: &[f64; 3]) -> Contact {
-        match self.base_hit(b) {
+        match self.base_hit(b, self.ctx.settings.margin) {
             Ok(Some((link, collider, body))) => Contact::Touches {
                 obstacle: Obstacle::scene_named(
                     self.ctx.robot,
@@ -558,8 +541,10 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
                 Err(f) => return Ok(Err(f)),
             };
             let path = if differential {
-                let valid =
-                    |a: &[f64], b: &[f64]| self.base_collision(&[a.to_vec(), b.to_vec()]).is_none();
+                let valid = |a: &[f64], b: &[f64]| {
+                    self.base_collision(&from, &[a.to_vec(), b.to_vec()])
+                        .is_none()
+                };
                 match differential_drive(&planned, &valid) {
                     Ok(p) => p,
                     Err(why) => {
@@ -573,7 +558,7 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
             } else {
                 planned
             };
-            if let Some((segment, at)) = self.base_collision(&path) {
+            if let Some((segment, at)) = self.base_collision(&from, &path) {
                 let contact = self.base_contact(&[at[0], at[1], at[2]]);
                 return Ok(Err(self.fail(
                     Check::BasePath,
@@ -611,7 +596,7 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
         }
         let mut settings = ctx.settings.paths.clone();
         settings.seed = settings.seed.map(|s| s.wrapping_add(attempt));
-        let base_valid = |b: &[f64; 3]| self.base_valid(b);
+        let base_valid = |b: &[f64; 3]| self.base_valid_from(&from, b);
         let outcome = plan_base(
             from,
             to,
@@ -636,16 +621,21 @@ impl<'c, 'a> StepRefinement<'c, 'a> {
         )
     }
 
-    /// The first base pose along `path` (straight segments, yaw not wrapped) where the robot
-    /// with the arm stowed is not [`base_valid`](Self::base_valid), sampled at the planner's
-    /// base resolution with the yaw scaled by the footprint radius: the segment and the pose.
-    pub(super) fn base_collision(&self, path: &[Vec<f64>]) -> Option<(usize, Vec<f64>)> {
+    /// The first base pose along `path` (straight segments, yaw not wrapped; part of a base
+    /// path from `start`) where the robot with the arm stowed is not
+    /// [`base_valid_from`](Self::base_valid_from) `start`, sampled at the planner's base
+    /// resolution with the yaw scaled by the footprint radius: the segment and the pose.
+    pub(super) fn base_collision(
+        &self,
+        start: &[f64],
+        path: &[Vec<f64>],
+    ) -> Option<(usize, Vec<f64>)> {
         let radius = self.ctx.robot.base().footprint_radius.max(1e-3);
         let scaled: Vec<Vec<f64>> = path
             .iter()
             .map(|p| vec![p[0], p[1], p[2] * radius])
             .collect();
-        let valid = |p: &[f64]| self.base_valid(&[p[0], p[1], p[2] / radius]);
+        let valid = |p: &[f64]| self.base_valid_from(start, &[p[0], p[1], p[2] / radius]);
         first_invalid(
             &scaled,
             self.ctx.settings.base_check_resolution,

@@ -41,7 +41,10 @@ impl StepRefinement<'_, '_> {
                 Some(2),
                 blend,
                 settings.base_check_resolution,
-                &|_, _, p| self.base_valid(&[p[0], p[1], p[2]]),
+                &|_, _, p| {
+                    let start = base_path.first().map_or(p, Vec::as_slice);
+                    self.base_valid_from(start, &[p[0], p[1], p[2]])
+                },
             )?,
             // Exact, never blended: a blended corner between a turn and a drive would move
             // the base sideways.
