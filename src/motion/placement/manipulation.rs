@@ -1,9 +1,9 @@
 //! IK along the grasp trajectory at one base pose, with continuity, joint-jump and collision
 //! checks: the [`ManipulationPlan`].
 
+use std::cell::RefCell;
 use std::collections::BTreeSet;
 use std::f64::consts::PI;
-use std::sync::Mutex;
 
 use nalgebra::{DVector, Isometry3, Vector3};
 
@@ -80,7 +80,7 @@ pub(crate) struct Prepared<'a> {
     pub self_margin: f64,
     /// Every scene part any check of this preparation found the robot within its margin of
     /// (a rejected IK restart's included): what its results depend on.
-    met: Mutex<BTreeSet<PartId>>,
+    met: RefCell<BTreeSet<PartId>>,
 }
 
 /// The self-clearance (m) the configurations of a manipulation keep: `wanted`, but at most
@@ -157,17 +157,14 @@ impl<'a> Prepared<'a> {
             lower,
             upper,
             self_margin,
-            met: Mutex::default(),
+            met: RefCell::default(),
         })
     }
 
     /// Records that a check found the robot in the way of `body`, when it is a part.
     pub(crate) fn note(&self, body: Body) {
         if let Body::Part(part) = body {
-            self.met
-                .lock()
-                .unwrap_or_else(std::sync::PoisonError::into_inner)
-                .insert(part);
+            self.met.borrow_mut().insert(part);
         }
     }
 
@@ -177,10 +174,7 @@ impl<'a> Prepared<'a> {
     /// values, every check gives the same answers, and so the deterministic planners on top
     /// give the same result whatever the other joints do.
     pub(crate) fn met_parts(&self) -> BTreeSet<PartId> {
-        self.met
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner)
-            .clone()
+        self.met.borrow().clone()
     }
 
     /// The first obstacle of the robot at `(base, q)` with the scene in `data`: two links

@@ -410,11 +410,7 @@ fn place_motion(
             reached: vec![false; n],
             reached_fraction: 0.0,
             failures: vec![None; n],
-            obstacle_parts: sampled
-                .obstacles
-                .union(&prepared.met_parts())
-                .copied()
-                .collect(),
+            obstacle_parts: prepared.met_parts().into_iter().collect(),
             motion,
             method: PlacementMethod::Sampled,
             requested: settings.method,
@@ -425,7 +421,6 @@ fn place_motion(
         });
     };
     let mut method = PlacementMethod::Sampled;
-    let mut obstacles = sampled.obstacles;
     let mut plan = best;
     let mut reason = join(plan.reason(), stopped);
     let cancelled = termination.is_cancelled();
@@ -444,7 +439,6 @@ fn place_motion(
         stats.optimisation_time = t.elapsed().saturating_sub(result.build_time);
         stats.ipopt_iterations = result.iterations;
         stats.ipopt_time = result.solve_time;
-        obstacles.extend(result.obstacles);
         let rejection = match result.plan {
             Ok(optimum) => {
                 plan = optimum;
@@ -457,7 +451,6 @@ fn place_motion(
         stats.ipopt_status = Some(result.status);
         reason = join(reason, rejection);
     }
-    obstacles.extend(prepared.met_parts());
     let n = plan.reached.len();
     Ok(PlacementOutcome {
         base: plan.base,
@@ -465,7 +458,7 @@ fn place_motion(
         arm: plan.arm,
         reached: plan.reached,
         failures: plan.failures,
-        obstacle_parts: obstacles.into_iter().collect(),
+        obstacle_parts: prepared.met_parts().into_iter().collect(),
         motion,
         method,
         requested: settings.method,

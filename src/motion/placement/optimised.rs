@@ -9,11 +9,10 @@ use nalgebra::{DVector, Isometry3, Point2, Vector2, Vector3};
 use super::grasp::GraspRotation;
 use super::manipulation::Prepared;
 use super::plan::{ManipulationPlan, WaypointFailure};
-use super::sampled::{obstacle_parts, wrap};
+use super::sampled::wrap;
 use super::symbolic::world_from_tool;
 use super::{ManipulationSettings, OptimisationSettings, PlacementError};
 use crate::kinematics::robot::{ArmJoint, RobotModel};
-use crate::scene::PartId;
 use crate::scene::collision::geometry::WorldBox;
 
 /// Everything the compiled NLP depends on; a cached solver is reused only for an equal key.
@@ -213,8 +212,6 @@ fn half_planes(
 pub(crate) struct Optimised {
     /// The verified plan, or `None` with the reason it was rejected.
     pub plan: Result<ManipulationPlan, String>,
-    /// The parts the optimised plan touched.
-    pub obstacles: Vec<PartId>,
     /// IPOPT's status of the last solve.
     pub status: String,
     /// IPOPT iterations over all solves.
@@ -282,7 +279,6 @@ pub(crate) fn optimise(
     params.push(0.0);
     let mut result = Optimised {
         plan: Err("no pull weight given".to_owned()),
-        obstacles: Vec::new(),
         status: String::new(),
         iterations: 0,
         build_time,
@@ -305,7 +301,6 @@ pub(crate) fn optimise(
             .map(|k| DVector::from_column_slice(&x[3 + k * dof..3 + (k + 1) * dof]))
             .collect();
         let plan = verify(prepared, base, arm, manipulation)?;
-        result.obstacles.extend(obstacle_parts(&plan));
         let rejection = match plan.reason() {
             Some(reason) => reason,
             None if sample.is_complete() && plan.smoothness() > sample.smoothness() => format!(

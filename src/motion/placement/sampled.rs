@@ -1,7 +1,6 @@
 //! The paper's base placement: sample base poses around the part, keep the one from which the
 //! most waypoints are reached.
 
-use std::collections::BTreeSet;
 use std::f64::consts::PI;
 
 use nalgebra::{DVector, Point2, Vector2};
@@ -13,7 +12,6 @@ use super::manipulation::{Cutoff, Prepared};
 use super::plan::ManipulationPlan;
 use super::{ManipulationSettings, PlacementError, PlacementObjective, SamplingSettings, TieBreak};
 use crate::kinematics::robot::{Exempt, RobotConfig};
-use crate::scene::PartId;
 use crate::scene::collision::Body;
 
 /// What the sampler found.
@@ -30,8 +28,6 @@ pub(crate) struct SampleResult {
     pub fallback: [f64; 3],
     /// Why sampling stopped early, if it did.
     pub stopped: Option<Stop>,
-    /// The parts that touched a rejected base pose or an evaluated waypoint.
-    pub obstacles: BTreeSet<PartId>,
 }
 
 /// Why the sampler stopped before evaluating `samples` base poses.
@@ -119,11 +115,10 @@ pub(crate) fn sample(
     let keep = sampling.keep.max(1);
     let mut best: Vec<(usize, f64, ManipulationPlan)> = Vec::with_capacity(keep + 1);
     let (mut drawn, mut rejected) = (0, 0);
-    let mut obstacles = BTreeSet::new();
     let mut stopped = None;
+    // The parts met are recorded by `prepared` (`Prepared::met_parts`).
     let consider = |base: [f64; 3],
-                    best: &mut Vec<(usize, f64, ManipulationPlan)>,
-                    obstacles: &mut BTreeSet<PartId>|
+                    best: &mut Vec<(usize, f64, ManipulationPlan)>|
      -> Result<bool, PlacementError> {
         let grid = prepared.problem.model.base_grid();
         if grid.cell_of(Point2::new(base[0], base[1])).is_none() {
@@ -134,9 +129,7 @@ pub(crate) fn sample(
             None => None,
         };
         if let Some(body) = base_collides(prepared, base, seed, sampling.base_margin)?.or(stowed) {
-            if let Body::Part(part) = body {
-                obstacles.insert(part);
-            }
+            prepared.note(body);
             return Ok(false);
         }
         let (cutoff, reached): (Cutoff, fn(&ManipulationPlan) -> usize) = match sampling.objective {
@@ -149,7 +142,6 @@ pub(crate) fn sample(
             }
         };
         let plan = prepared.plan(base, seed, manipulation, cutoff)?;
-        obstacles.extend(obstacle_parts(&plan));
         let score = (reached(&plan), cost(&plan));
         // After every plan at least as good (the earliest first among equals).
         let at = best
@@ -163,7 +155,7 @@ pub(crate) fn sample(
         Ok(true)
     };
     if sampling.current_pose {
-        consider(robot_from, &mut best, &mut obstacles)?;
+        consider(robot_from, &mut best)?;
     }
     while drawn - rejected < sampling.samples && drawn < sampling.max_draws {
         if prepared.termination.is_cancelled() {
@@ -187,7 +179,7 @@ pub(crate) fn sample(
             position.y,
             wrap(facing.y.atan2(facing.x) + jitter),
         ];
-        if !consider(base, &mut best, &mut obstacles)? {
+        if !consider(base, &mut best)? {
             rejected += 1;
         }
     }
@@ -197,7 +189,6 @@ pub(crate) fn sample(
         rejected,
         stopped,
         fallback,
-        obstacles,
     })
 }
 
@@ -238,9 +229,4 @@ fn stow_collides(
             .scene_collision(&poses, p.model, data, Exempt::Nothing, margin)
             .map(|(_, body)| body)
     }))
-}
-
-/// The parts a plan's waypoints (or the segments to them) touched.
-pub(crate) fn obstacle_parts(plan: &ManipulationPlan) -> impl Iterator<Item = PartId> + '_ {
-    plan.obstacle_parts()
 }
